@@ -1,0 +1,106 @@
+"""What a built-in case hands to the solver, and helpers shared by the cases."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Callable
+
+import numpy as np
+import yaml
+
+from ..config import CaseConfig, ConfigError
+from ..eos import hydrostatic_density
+from ..kernels import SUPPORT, KERNELS
+from ..particles import Particles
+
+
+@dataclass
+class CaseSetup:
+    """Everything the solver needs to run a case.
+
+    Attributes
+    ----------
+    particles : Particles
+        Initial particles (fluid and walls) with velocities and densities set.
+    bounds : tuple
+        ``(xmin, xmax, zmin, zmax)`` of the domain; a particle outside has left it.
+    depth : float
+        Reference depth ``H`` (m) for the speed of sound ``c0 = c_factor sqrt(g H)``.
+    motions : list
+        Prescribed motions of the wall groups 1, 2, ... (group 0 is the fixed tank); each
+        has ``kinematics(t) -> array of 9`` (see :mod:`sph.walls`).
+    diagnostics : dict
+        Extra time series: name (registered in ``variables.yaml``) -> ``f(particles) -> float``.
+    attrs : dict
+        Case parameters written as global attributes of the output.
+    """
+
+    particles: Particles
+    bounds: tuple
+    depth: float
+    motions: list = field(default_factory=list)
+    diagnostics: dict[str, Callable] = field(default_factory=dict)
+    attrs: dict = field(default_factory=dict)
+
+
+def load_defaults(name: str) -> dict:
+    """The built-in YAML of case ``name`` as a mapping."""
+    text = resources.files("sph.cases").joinpath(f"{name}.yaml").read_text()
+    return yaml.safe_load(text)
+
+
+def example_text(name: str) -> str:
+    """The built-in YAML of case ``name`` as text (what ``sph example`` prints)."""
+    return resources.files("sph.cases").joinpath(f"{name}.yaml").read_text()
+
+
+def support(cfg: CaseConfig) -> float:
+    """Kernel support radius (m)."""
+    return SUPPORT[KERNELS[cfg.numerics.kernel]] * cfg.numerics.h
+
+
+def b_coef(cfg: CaseConfig, depth: float) -> tuple[float, float]:
+    """Speed of sound and the Tait coefficient ``c0^2 rho0 / gamma``."""
+    c0 = cfg.numerics.c_factor * np.sqrt(cfg.fluid.gravity * depth)
+    return c0, c0 * c0 * cfg.fluid.rho0 / cfg.fluid.gamma
+
+
+def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
+                   wall_body=None, wall_body_xz=None) -> Particles:
+    """Particles with hydrostatic initial density below the still level ``surface_z``."""
+    _, b = b_coef(cfg, depth)
+    rho = hydrostatic_density(np.maximum(surface_z - fluid_xz[:, 1], 0.0), cfg.fluid.rho0, b,
+                              cfg.fluid.gamma, cfg.fluid.gravity)
+    mass = cfg.fluid.rho0 * cfg.numerics.dx**2
+    if wall_body is None:
+        wall_body = np.zeros(len(wall_xz), dtype=np.int32)
+    if wall_body_xz is None:
+        wall_body_xz = wall_xz
+    parts = Particles.from_arrays(fluid_xz, rho, mass, wall_xz, wall_body, wall_body_xz)
+    nf = len(fluid_xz)
+    parts.rho[nf:] = cfg.fluid.rho0
+    return parts
+
+
+def require_resolved(key: str, length: float, dx: float, cells: int = 4) -> None:
+    """Refuse a length that the particle spacing cannot resolve."""
+    if length < cells * dx:
+        raise ConfigError(key, f"= {length:g} m is resolved by fewer than {cells} particle "
+                          f"spacings (numerics.dx = {dx:g} m); use a smaller dx or a larger "
+                          f"{key.split('.')[-1]}")
+
+
+def check_probes_inside(cfg: CaseConfig, x0: float, x1: float, z0: float, z1: float) -> None:
+    """Every probe must lie within the tank ``[x0, x1] x [z0, z1]``."""
+    for k, pr in enumerate(cfg.probes.surface):
+        if not x0 <= pr.x <= x1:
+            raise ConfigError(f"probes.surface[{k}].x", f"must be inside the tank, in "
+                              f"[{x0:g}, {x1:g}] m; got {pr.x:g}")
+    for k, pr in enumerate(cfg.probes.pressure):
+        if not x0 <= pr.x <= x1:
+            raise ConfigError(f"probes.pressure[{k}].x", f"must be inside the tank, in "
+                              f"[{x0:g}, {x1:g}] m; got {pr.x:g}")
+        if not z0 <= pr.z <= z1:
+            raise ConfigError(f"probes.pressure[{k}].z", f"must be inside the tank, in "
+                              f"[{z0:g}, {z1:g}] m; got {pr.z:g}")

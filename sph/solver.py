@@ -1,0 +1,329 @@
+"""Run orchestration: the time loop, run-time checks, diagnostics and output.
+
+Plain Python that drives the numba kernels of the physics modules. One step:
+
+1. place moving walls at time ``t`` (:func:`sph.walls.place_walls`),
+2. sort particles by cell (:mod:`sph.neighbours`); stop if any left the domain,
+3. pressures: Tait EOS for the fluid, extrapolation for the walls,
+4. derivatives (:func:`sph.fluid.interact`; delta-SPH gradient first if selected),
+5. MLS re-initialisation when due, then the Verlet update (:mod:`sph.integrator`).
+"""
+
+from __future__ import annotations
+
+import logging
+import time as wallclock
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import __version__
+from .cases import CASES
+from .cases.base import CaseSetup, b_coef
+from .config import CaseConfig
+from .eos import fluid_pressures
+from .filters import mls_density, renormalised_density_gradient
+from .fluid import interact
+from .integrator import max_speed_accel, time_step, verlet_update
+from .jit import set_threads
+from .kernels import kernel_params, support_radius
+from .neighbours import CellGrid
+from .particles import FLUID
+from .probes import point_pressures, surface_heights
+from .walls import fixed_kinematics, place_walls, wall_pressure
+
+log = logging.getLogger(__name__)
+
+
+class SimulationError(RuntimeError):
+    """A run that blew up; names the step, the simulated time and the cause."""
+
+    def __init__(self, step: int, t: float, cause: str):
+        self.step, self.t, self.cause = step, t, cause
+        super().__init__(f"simulation stopped at step {step}, t = {t:.6g} s: {cause}")
+
+
+@dataclass
+class Record:
+    """Time series buffers filled at every output sample."""
+
+    time: list = field(default_factory=list)
+    series: dict = field(default_factory=dict)
+    surface: list = field(default_factory=list)
+    pressure: list = field(default_factory=list)
+
+    def add(self, t: float, values: dict, surface, pressure) -> None:
+        self.time.append(t)
+        for k, v in values.items():
+            self.series.setdefault(k, []).append(v)
+        self.surface.append(surface)
+        self.pressure.append(pressure)
+
+
+class Simulation:
+    """A prepared run of one case.
+
+    Parameters
+    ----------
+    cfg : CaseConfig
+        Validated configuration.
+    setup : CaseSetup, optional
+        Particles and case data; built from ``cfg`` by the case's ``setup`` if omitted.
+    """
+
+    def __init__(self, cfg: CaseConfig, setup: CaseSetup | None = None):
+        self.cfg = cfg
+        self.threads = set_threads(cfg.numerics.threads)
+        self.setup = setup if setup is not None else CASES[cfg.case].setup(cfg)
+        num, fl = cfg.numerics, cfg.fluid
+        self.h = num.h
+        self.kp = kernel_params(num.kernel, self.h)
+        self.c0, self.b = b_coef(cfg, self.setup.depth)
+        self.parts = self.setup.particles
+        self.grid = CellGrid(*self.setup.bounds, support_radius(self.kp))
+        self.gx, self.gz = 0.0, -fl.gravity
+        self.kin = fixed_kinematics(1 + len(self.setup.motions))
+        self.visc_coef = 2.0 * num.alpha * self.h * self.c0
+        self.delta_coef = (num.delta * self.h * self.c0
+                           if num.density_filter == "delta" else 0.0)
+        n = self.parts.n
+        self._grx = np.zeros(n)
+        self._grz = np.zeros(n)
+        self._rho_buf = np.zeros(n)
+        self.t = 0.0
+        self.step = 0
+        self.dt = 0.0
+        self.n_fluid = int(np.sum(self.parts.kind == FLUID))
+        self.volume0 = float(np.sum(self.parts.m[self.parts.kind == FLUID] / fl.rho0))
+        self.record = Record()
+        self._warned_c0 = False
+        probes = cfg.probes
+        self._surf_x = np.array([p.x for p in probes.surface], dtype=np.float64)
+        self._pres_x = np.array([p.x for p in probes.pressure], dtype=np.float64)
+        self._pres_z = np.array([p.z for p in probes.pressure], dtype=np.float64)
+        self._zfloor = self.setup.bounds[2]
+        self.wall_seconds = 0.0
+        self.status = "not started"
+
+    # ------------------------------------------------------------------ physics
+    def _kinematics(self, t: float) -> None:
+        for k, motion in enumerate(self.setup.motions, start=1):
+            self.kin[k] = motion.kinematics(t)
+
+    def evaluate(self) -> None:
+        """Place walls, sort, and compute pressures and time derivatives at ``self.t``."""
+        p = self.parts
+        if self.setup.motions:
+            self._kinematics(self.t)
+            place_walls(p.x, p.z, p.vx, p.vz, p.bx, p.bz, p.kind, p.body, self.kin)
+        g = self.grid
+        n_out = g.sort(p.x, p.z)
+        if n_out:
+            raise SimulationError(self.step, self.t, f"{n_out} particle(s) left the domain "
+                                  f"x in [{g.bounds[0]:g}, {g.bounds[1]:g}], z in "
+                                  f"[{g.bounds[2]:g}, {g.bounds[3]:g}] m (or are NaN)")
+        p.permute(g.order)
+        fl = self.cfg.fluid
+        fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
+        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+                      g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
+                      self.b, fl.gamma)
+        if self.delta_coef:
+            renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
+                                          g.cell_start, g.ncx, self.kp, self._grx, self._grz)
+        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.comp, g.cell_of,
+                 g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
+                 self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho)
+
+    def advance(self) -> None:
+        """One time step (derivatives at the current level must be up to date)."""
+        p, num = self.parts, self.cfg.numerics
+        vmax, amax = max_speed_accel(p.vx, p.vz, p.ax, p.az, p.kind)
+        self.dt = time_step(num.cfl, self.h, self.c0, num.alpha, vmax, amax)
+        if not self._warned_c0 and 10.0 * vmax > self.c0:
+            self._warned_c0 = True
+            log.warning("t = %.4g s: max velocity %.3g m/s exceeds c0/10 = %.3g m/s; "
+                        "compressibility errors grow (raise numerics.c_factor)",
+                        self.t, vmax, self.c0 / 10.0)
+        s = self.step + 1
+        mls_due = num.density_filter == "mls" and s % num.mls_interval == 0
+        euler = mls_due or s % num.euler_interval == 0 or self.step == 0
+        if mls_due:
+            g = self.grid
+            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of, g.cell_start, g.ncx,
+                        self.kp, self._rho_buf)
+            p.rho[:] = self._rho_buf
+        verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
+                      p.drho, p.kind, self.dt, euler)
+        self.t += self.dt
+        self.step = s
+        self.evaluate()
+
+    # ------------------------------------------------------------------ checks
+    def check(self) -> None:
+        """Stop with a :class:`SimulationError` on NaN/inf or a density out of band."""
+        p, run, rho0 = self.parts, self.cfg.run, self.cfg.fluid.rho0
+        f = p.kind == FLUID
+        for name in ("x", "z", "vx", "vz", "rho", "ax", "az"):
+            arr = getattr(p, name)[f]
+            if not np.all(np.isfinite(arr)):
+                bad = int(np.sum(~np.isfinite(arr)))
+                raise SimulationError(self.step, self.t, f"{bad} fluid particle(s) have a "
+                                      f"non-finite {name}")
+        rho = p.rho[f]
+        lo, hi = float(rho.min()), float(rho.max())
+        if lo < run.density_min * rho0 or hi > run.density_max * rho0:
+            raise SimulationError(self.step, self.t, f"fluid density {lo:.5g}..{hi:.5g} "
+                                  f"kg/m3 left the band [{run.density_min * rho0:g}, "
+                                  f"{run.density_max * rho0:g}] (run.density_min/max)")
+        if self.dt and self.dt < 1e-6 * self.h / self.c0:
+            raise SimulationError(self.step, self.t, f"time step collapsed to {self.dt:.3g} s")
+
+    # ------------------------------------------------------------------ output
+    def sample(self) -> None:
+        """Append the current state to the time series."""
+        p, fl = self.parts, self.cfg.fluid
+        f = p.kind == FLUID
+        m, vx, vz, rho = p.m[f], p.vx[f], p.vz[f], p.rho[f]
+        speed2 = vx * vx + vz * vz
+        values = {
+            "n_particles": float(f.sum()),
+            "dt": self.dt,
+            "kinetic_energy": float(0.5 * np.sum(m * speed2)),
+            "potential_energy": float(fl.gravity * np.sum(m * p.z[f])),
+            "volume_error": float(np.sum(m / rho) / self.volume0 - 1.0),
+            "max_velocity": float(np.sqrt(speed2.max())),
+            "density_min": float(rho.min()),
+            "density_max": float(rho.max()),
+        }
+        for name, fn in self.setup.diagnostics.items():
+            values[name] = fn(p)
+        surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, self._surf_x, self.kp,
+                               self._zfloor, 0.1 * self.cfg.numerics.dx)
+        pres = point_pressures(p.x, p.z, p.m, p.rho, p.p, p.kind, self._pres_x, self._pres_z,
+                               self.kp, self.gx, self.gz)
+        self.record.add(self.t, values, surf, pres)
+
+    def dataset(self):
+        """The run so far as a CF-annotated :class:`xarray.Dataset`."""
+        from .output import build_dataset
+
+        rec = self.record
+        series = {k: np.asarray(v) for k, v in rec.series.items()}
+        probes = {}
+        if len(self._surf_x):
+            names = [pr.name for pr in self.cfg.probes.surface]
+            surf = np.asarray(rec.surface).T
+            probes["surface_height"] = (names, surf)
+            probes["probe_elevation"] = (names, surf - self.setup.attrs.get(
+                "still_level", self.setup.depth))
+        if len(self._pres_x):
+            names = [pr.name for pr in self.cfg.probes.pressure]
+            probes["probe_pressure"] = (names, np.asarray(rec.pressure).T)
+        attrs = dict(self.setup.attrs)
+        attrs.update(case=self.cfg.case, title=self.cfg.title, status=self.status,
+                     steps=self.step, wall_clock_seconds=round(self.wall_seconds, 3),
+                     threads=self.threads, n_fluid=self.n_fluid, n_total=self.parts.n,
+                     speed_of_sound=self.c0, smoothing_length=self.h,
+                     kernel=self.cfg.numerics.kernel,
+                     density_filter=self.cfg.numerics.density_filter, dx=self.cfg.numerics.dx,
+                     particle_steps_per_second=round(self.particle_steps_per_second(), 1))
+        return build_dataset(rec.time, series, probes=probes or None, attrs=attrs,
+                             config_yaml=self.cfg.to_yaml())
+
+    def particle_steps_per_second(self) -> float:
+        return self.parts.n * self.step / self.wall_seconds if self.wall_seconds else 0.0
+
+    def write(self, path) -> None:
+        from .output import write_netcdf_atomic
+
+        write_netcdf_atomic(self.dataset(), path)
+
+    # ------------------------------------------------------------------ driver
+    def run(self, out_path=None, *, progress: bool = False, vtk_dir=None) -> "Simulation":
+        """Run to ``run.t_end`` (or ``run.max_steps``), writing ``out_path`` atomically.
+
+        The partial output is rewritten every ``run.flush_seconds`` of wall time; on a
+        blow-up or an interrupt the data up to that moment is written (global attribute
+        ``status`` says what happened) and the exception propagates.
+        """
+        run = self.cfg.run
+        bar = _progress_bar(run.t_end) if progress else None
+        vtk = None
+        if vtk_dir is not None and run.vtk_interval > 0:
+            from .output import VTKWriter
+
+            vtk = VTKWriter(vtk_dir, self.cfg.case)
+        t_wall0 = wallclock.perf_counter()
+        last_flush = t_wall0
+        next_out = 0.0
+        next_vtk = 0.0
+        eps = 1e-12 * run.t_end
+        self.status = "running"
+        try:
+            if self.step == 0:
+                self.evaluate()
+            while True:
+                if self.t >= next_out - eps:
+                    self.sample()
+                    next_out += run.output_interval
+                if vtk is not None and self.t >= next_vtk - eps:
+                    self._write_vtk(vtk)
+                    next_vtk += run.vtk_interval
+                if self.t >= run.t_end - eps or (run.max_steps and self.step >= run.max_steps):
+                    break
+                self.advance()
+                if self.step % run.check_interval == 0:
+                    self.check()
+                now = wallclock.perf_counter()
+                self.wall_seconds = now - t_wall0
+                if bar is not None:
+                    bar.update_to(self.t, self.particle_steps_per_second())
+                if out_path is not None and now - last_flush > run.flush_seconds:
+                    self.write(out_path)
+                    last_flush = now
+            self.status = "completed"
+        except SimulationError as exc:
+            self.status = f"failed: {exc}"
+            raise
+        except KeyboardInterrupt:
+            self.status = f"interrupted at step {self.step}, t = {self.t:.6g} s"
+            raise
+        finally:
+            self.wall_seconds = wallclock.perf_counter() - t_wall0
+            if bar is not None:
+                bar.close()
+            if vtk is not None:
+                vtk.close()
+            if out_path is not None and self.record.time:
+                self.write(out_path)
+        return self
+
+    def _write_vtk(self, vtk) -> None:
+        p = self.parts
+        vtk.write(self.t, p.x, p.z, {
+            "velocity": np.column_stack([p.vx, p.vz]), "density": p.rho, "pressure": p.p,
+            "kind": p.kind.astype(np.int32), "id": p.pid.astype(np.int32)})
+
+
+def _progress_bar(t_end: float):
+    from tqdm import tqdm
+
+    class Bar(tqdm):
+        def update_to(self, t, rate):
+            if self._time() - self.last_print_t < 0.5 and t < t_end:
+                return
+            self.set_postfix_str(f"{rate / 1e6:.2f} M particle-steps/s", refresh=False)
+            self.update(min(t, t_end) - self.n)
+
+    return Bar(total=t_end, unit="s", unit_scale=False, bar_format=(
+        "{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}, {postfix}]"))
+
+
+def run_case(cfg: CaseConfig, out_path=None, *, progress=False, vtk_dir=None) -> Simulation:
+    """Build and run a case; returns the finished :class:`Simulation`."""
+    sim = Simulation(cfg)
+    log.info("%s: %d fluid + %d wall particles, dx = %g m, h = %g m, c0 = %.4g m/s, "
+             "%d thread(s), sph-flood %s", cfg.case, sim.n_fluid, sim.parts.n - sim.n_fluid,
+             cfg.numerics.dx, sim.h, sim.c0, sim.threads, __version__)
+    return sim.run(out_path, progress=progress, vtk_dir=vtk_dir)
