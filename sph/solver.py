@@ -94,7 +94,8 @@ class Simulation:
         self.step = 0
         self.dt = 0.0
         self.n_fluid = int(np.sum(self.parts.kind == FLUID))
-        self.volume0 = float(np.sum(self.parts.m[self.parts.kind == FLUID] / fl.rho0))
+        fmask = self.parts.kind == FLUID
+        self.volume0 = float(np.sum(self.parts.m[fmask] / self.parts.rho[fmask]))
         self.record = Record()
         self._warned_c0 = False
         probes = cfg.probes
@@ -127,7 +128,7 @@ class Simulation:
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                       g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
-                      self.b, fl.gamma)
+                      self.b, fl.gamma, self.cfg.numerics.dx**2)
         if self.delta_coef:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz)

@@ -59,8 +59,11 @@ def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
-                  kin, rho0, b_coef, gamma):
-    """Extrapolate pressure and density onto every wall particle (Eqs. 11-13)."""
+                  kin, rho0, b_coef, gamma, vol0):
+    """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
+
+    A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
+    its density: ``m = rho vol0``."""
     n = x.shape[0]
     r2max = kp[3]
     for i in prange(n):
@@ -98,6 +101,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
         else:
             p[i] = 0.0
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
+        m[i] = rho[i] * vol0
 
 
 @njit(**JIT_PARALLEL)

@@ -1,0 +1,90 @@
+"""Post-processing used by the tests and the workflow: frequencies, fronts, validation data."""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+
+def validation_data_dir() -> Path:
+    """Folder of the external experimental series.
+
+    ``SPH_VALIDATION_DATA`` if set, else ``../shared/validation-data`` beside the repository.
+    """
+    env = os.environ.get("SPH_VALIDATION_DATA")
+    if env:
+        return Path(env)
+    return Path(__file__).resolve().parents[2] / "shared" / "validation-data"
+
+
+def read_two_column(path: str | Path, skip: int = 2) -> np.ndarray:
+    """Read a whitespace-separated two-column series after ``skip`` header lines."""
+    rows = []
+    with open(path, encoding="latin-1") as fh:
+        for k, line in enumerate(fh):
+            if k < skip:
+                continue
+            parts = line.split()
+            if len(parts) >= 2:
+                rows.append((float(parts[0]), float(parts[1])))
+    return np.array(rows)
+
+
+def koshizuka_front() -> np.ndarray:
+    """Koshizuka & Oka (1996) dam-break front: columns time (s), front x (m)."""
+    return read_two_column(validation_data_dir() / "koshizuka1996" /
+                           "EXP_X-DamTipPosition_Koshizuka_Oka1996.txt")
+
+
+def ritter_front(t, x0: float, depth: float, g: float = 9.81):
+    """Shallow-water (Ritter) bound on the dam-break front: ``x0 + 2 sqrt(g H) t``."""
+    return x0 + 2.0 * math.sqrt(g * depth) * np.asarray(t)
+
+
+def zero_crossing_period(t, y) -> float:
+    """Mean period from the upward zero crossings of ``y - mean(y)`` (linear interpolation)."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float) - np.mean(y)
+    k = np.nonzero((y[:-1] < 0.0) & (y[1:] >= 0.0))[0]
+    if len(k) < 2:
+        raise ValueError("fewer than two upward zero crossings: record too short")
+    tc = t[k] - y[k] * (t[k + 1] - t[k]) / (y[k + 1] - y[k])
+    return float((tc[-1] - tc[0]) / (len(tc) - 1))
+
+
+def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
+    """Angular frequency (rad/s) and damping ratio of a decaying oscillation.
+
+    Fits :math:`y = c + a e^{-\\zeta\\omega t}\\sin(\\omega_d t + \\varphi)` (scipy
+    least squares) to the samples after ``t_start``, starting from the zero-crossing period.
+    Returns the damped frequency :math:`\\omega_d` and :math:`\\zeta`.
+    """
+    from scipy.optimize import curve_fit
+
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    sel = t >= t_start
+    t, y = t[sel] - t[sel][0], y[sel]
+    w0 = 2.0 * math.pi / zero_crossing_period(t, y)
+    c0 = float(np.mean(y))
+    a0 = float(np.max(np.abs(y - c0)))
+
+    def model(tt, c, a, w, zeta, phi):
+        return c + a * np.exp(-zeta * w * tt) * np.sin(w * tt + phi)
+
+    best = None
+    for phi0 in np.linspace(0, 2 * math.pi, 8, endpoint=False):
+        try:
+            popt, _ = curve_fit(model, t, y, p0=[c0, a0, w0, 0.01, phi0], maxfev=5000)
+        except RuntimeError:
+            continue
+        res = float(np.sum((model(t, *popt) - y) ** 2))
+        if best is None or res < best[0]:
+            best = (res, popt)
+    if best is None:
+        return w0, float("nan")
+    _, popt = best
+    return abs(float(popt[2])), float(popt[3])
