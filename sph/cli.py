@@ -80,12 +80,6 @@ def _run(args) -> int:
         print(f"error: output path {str(out)!r} is a directory", file=sys.stderr)
         return 2
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        print(f"error: cannot create output directory {str(out.parent)!r}: {exc.strerror}",
-              file=sys.stderr)
-        return 2
-    try:
         sim = Simulation(cfg)
     except ConfigError as exc:
         print(f"error: invalid case {str(args.case_file)!r}: {exc}", file=sys.stderr)
@@ -97,6 +91,12 @@ def _run(args) -> int:
     if args.check:
         print("case is valid")
         return 0
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        print(f"error: cannot create output directory {str(out.parent)!r}: {exc.strerror}",
+              file=sys.stderr)
+        return 2
     try:
         sim.run(out, progress=not args.no_progress, vtk_dir=args.vtk)
     except SimulationError as exc:

@@ -37,6 +37,8 @@ def spec(default=dataclasses.MISSING, *, lo=None, hi=None, lo_open=False, hi_ope
 
 
 def _range_text(meta) -> str:
+    if meta.get("text"):
+        return meta["text"]
     if meta.get("choices"):
         return "one of " + ", ".join(repr(c) for c in meta["choices"])
     lo, hi = meta.get("lo"), meta.get("hi")
@@ -111,7 +113,8 @@ def build(cls, data: Any, key: str = ""):
         elif f.default_factory is not dataclasses.MISSING:
             value = f.default_factory()
         else:
-            raise ConfigError(sub, f"required key is missing ({_range_text(f.metadata)})")
+            want = _type_name(tp) if tp in (str, bool) else _range_text(f.metadata)
+            raise ConfigError(sub, f"required key is missing (expected {want})")
         values[name] = _convert(sub, value, tp, f.metadata)
     obj = cls(**values)
     check = getattr(obj, "check", None)
@@ -309,7 +312,10 @@ def load_yaml(path: str | Path) -> dict:
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise ConfigError("", f"{path} is not valid YAML: {exc}") from None
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or "syntax error"
+        raise ConfigError("", f"{path} is not valid YAML{where}: {problem}") from None
     if not isinstance(data, dict):
         raise ConfigError("", f"{path} must hold a mapping of sections (case, numerics, ...)")
     return data

@@ -11,8 +11,11 @@ import os
 
 import numba
 
+#: fast-math flags: reassociation and contraction (vectorised reductions) but no assumption
+#: that values are finite, so NaN/inf checks stay meaningful
+FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 #: flags for serial kernels
-JIT = dict(cache=True, fastmath=True, nogil=True)
+JIT = dict(cache=True, fastmath=FASTMATH, nogil=True)
 #: flags for kernels with a ``prange`` loop
 JIT_PARALLEL = dict(JIT, parallel=True)
 

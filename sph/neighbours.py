@@ -22,15 +22,17 @@ class CellGrid:
 
     def __init__(self, xmin: float, xmax: float, zmin: float, zmax: float, cell: float):
         self.cell = float(cell)
-        self.x0 = xmin - cell
+        self.x0 = xmin - cell  # origin of the padded grid
         self.z0 = zmin - cell
-        self.ncx = int(math.ceil((xmax - xmin) / cell)) + 2
-        self.ncz = int(math.ceil((zmax - zmin) / cell)) + 2
+        # interior cells 1 .. n; a point exactly on xmax (zmax) still falls in cell n
+        self.ncx = int(math.floor((xmax - xmin) / cell)) + 3
+        self.ncz = int(math.floor((zmax - zmin) / cell)) + 3
         self.bounds = (xmin, xmax, zmin, zmax)
         self.cell_start = np.zeros(self.ncx * self.ncz + 1, dtype=np.int64)
         self._counts = np.zeros(self.ncx * self.ncz, dtype=np.int64)
         self.cell_of = np.zeros(0, dtype=np.int64)
         self.order = np.zeros(0, dtype=np.int64)
+        self._tmp = np.zeros(0, dtype=np.int64)
 
     def sort(self, x: np.ndarray, z: np.ndarray) -> int:
         """Bin the particles; fills ``order`` (new position -> old index), ``cell_start``
@@ -41,26 +43,25 @@ class CellGrid:
             self.order = np.empty(n, dtype=np.int64)
             self.cell_of = np.empty(n, dtype=np.int64)
             self._tmp = np.empty(n, dtype=np.int64)
-        return _counting_sort(x, z, self.x0, self.z0, 1.0 / self.cell, self.ncx, self.ncz,
+        xmin, xmax, zmin, zmax = self.bounds
+        return _counting_sort(x, z, xmin, xmax, zmin, zmax, 1.0 / self.cell, self.ncx, self.ncz,
                               self._tmp, self._counts, self.cell_start, self.order,
                               self.cell_of)
 
 
 @njit(**JIT)
-def _counting_sort(x, z, x0, z0, inv_cell, ncx, ncz, tmp, counts, cell_start, order,
-                   cell_sorted):
+def _counting_sort(x, z, xmin, xmax, zmin, zmax, inv_cell, ncx, ncz, tmp, counts, cell_start,
+                   order, cell_sorted):
     n = x.shape[0]
     counts[:] = 0
     n_out = 0
     for i in range(n):
-        fx = (x[i] - x0) * inv_cell
-        fz = (z[i] - z0) * inv_cell
-        # also catches NaN: comparisons with NaN are false
-        if not (fx >= 1.0 and fx < ncx - 1 and fz >= 1.0 and fz < ncz - 1):
+        # the test is written so that NaN fails it (comparisons with NaN are false)
+        if x[i] >= xmin and x[i] <= xmax and z[i] >= zmin and z[i] <= zmax:
+            c = int((z[i] - zmin) * inv_cell + 1.0) * ncx + int((x[i] - xmin) * inv_cell + 1.0)
+        else:
             n_out += 1
-            fx = min(max(fx, 0.0), ncx - 1.0) if fx == fx else 0.0
-            fz = min(max(fz, 0.0), ncz - 1.0) if fz == fz else 0.0
-        c = int(fz) * ncx + int(fx)
+            c = 0  # a padding cell: never visited by a pair loop
         tmp[i] = c
         counts[c] += 1
     acc = 0

@@ -173,8 +173,6 @@ def test_check_validates_and_writes_nothing(case_file, tmp_path, capsys):
         assert list(out.parent.iterdir()) == []
 
 
-@pytest.mark.xfail(strict=True, reason="`sph run --check` creates the output's parent "
-                   "directory before validating, although a check should write nothing")
 def test_check_creates_no_directory(case_file, tmp_path, capsys):
     path = case_file("still_water")
     out = tmp_path / "results" / "still.nc"

@@ -149,7 +149,7 @@ def test_lattice_partition_of_unity(name, hf, q_support, dx):
     h, kp = _kp(name, hf, dx)
     ox, oz = _lattice_neighbourhood(dx, support_radius(kp))
     vol = dx * dx
-    total = vol * sum(w_r2(float(a * a + b * b), kp) for a, b in zip(ox, oz))
+    total = vol * sum(w_r2(float(a * a + b * b), kp) for a, b in zip(ox, oz, strict=True))
     assert total == pytest.approx(1.0, abs=0.01)
 
 
@@ -177,7 +177,7 @@ def test_lattice_gradient_sums(name, hf, q_support, dx):
     h, kp = _kp(name, hf, dx)
     ox, oz = _lattice_neighbourhood(dx, support_radius(kp))
     vol = dx * dx
-    f = np.array([f_r2(float(a * a + b * b), kp) for a, b in zip(ox, oz)])
+    f = np.array([f_r2(float(a * a + b * b), kp) for a, b in zip(ox, oz, strict=True)])
     # grad_i W_ij = F (r_i - r_j) = -F * offset
     gx, gz = -f * ox, -f * oz
     grad_sum = vol * np.array([gx.sum(), gz.sum()])
@@ -198,7 +198,7 @@ def test_lattice_gradient_of_linear_field(name, hf, q_support):
     h, kp = _kp(name, hf, dx)
     ox, oz = _lattice_neighbourhood(dx, support_radius(kp))
     a, b = 2.5, -1.25
-    f = np.array([f_r2(float(u * u + v * v), kp) for u, v in zip(ox, oz)])
+    f = np.array([f_r2(float(u * u + v * v), kp) for u, v in zip(ox, oz, strict=True)])
     dphi = a * ox + b * oz
     grad = dx * dx * np.array([np.sum(dphi * -f * ox), np.sum(dphi * -f * oz)])
     np.testing.assert_allclose(grad, [a, b], rtol=0.02)
