@@ -88,3 +88,51 @@ def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
         return w0, float("nan")
     _, popt = best
     return abs(float(popt[2])), float(popt[3])
+
+
+def harmonic_fit(t, y, omega: float) -> tuple[complex, float]:
+    """Least-squares fit ``y = c + Re(Z exp(i omega t))``; returns the complex amplitude Z
+    and the mean c."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    m = np.column_stack([np.ones_like(t), np.cos(omega * t), np.sin(omega * t)])
+    (c, a, b), *_ = np.linalg.lstsq(m, y, rcond=None)
+    return complex(a, -b), float(c)
+
+
+def wave_statistics(t, eta, omega: float, window: tuple[float, float]) -> dict:
+    """Steady amplitude and period of a regular wave record inside ``window`` (s).
+
+    Returns ``amplitude`` (first-harmonic amplitude, m), ``height`` (mean crest-to-trough
+    half range, m), ``period`` (mean zero-up-crossing period, s) and ``mean`` (m).
+    """
+    t = np.asarray(t, dtype=float)
+    eta = np.asarray(eta, dtype=float)
+    sel = (t >= window[0]) & (t <= window[1]) & np.isfinite(eta)
+    if sel.sum() < 8:
+        raise ValueError(f"window {window} holds fewer than 8 samples")
+    z, c = harmonic_fit(t[sel], eta[sel], omega)
+    return dict(amplitude=abs(z), mean=c, period=zero_crossing_period(t[sel], eta[sel]),
+                height=0.5 * float(np.ptp(eta[sel])))
+
+
+def reflection_coefficient(t, etas, xs, omega: float, k: float,
+                           window: tuple[float, float]) -> dict:
+    """Separate incident and reflected regular waves from several probes (Mansard & Funke
+    1980, least squares over the probes).
+
+    Each probe record is reduced to its complex amplitude :math:`Z_p` at ``omega``; then
+    :math:`Z_p = a_I e^{-i k x_p} + a_R e^{i k x_p}` is solved for :math:`a_I, a_R` in the
+    least-squares sense. Needs two probes not separated by a multiple of half a wavelength
+    (three or more make it robust).
+
+    Returns ``incident``, ``reflected`` (amplitudes, m) and ``coefficient`` = reflected /
+    incident.
+    """
+    t = np.asarray(t, dtype=float)
+    sel = (t >= window[0]) & (t <= window[1])
+    xs = np.asarray(xs, dtype=float)
+    z = np.array([harmonic_fit(t[sel], np.asarray(e)[sel], omega)[0] for e in etas])
+    a = np.column_stack([np.exp(-1j * k * xs), np.exp(1j * k * xs)])
+    (ai, ar), *_ = np.linalg.lstsq(a, z, rcond=None)
+    return dict(incident=abs(ai), reflected=abs(ar), coefficient=abs(ar) / abs(ai))

@@ -136,6 +136,8 @@ def _convert(key, value, tp, meta):
         (inner,) = [a for a in get_args(tp) if a is not type(None)]
         return _convert(key, value, inner, meta)
     if dataclasses.is_dataclass(tp):
+        if isinstance(value, tp):
+            return value
         return build(tp, value, key)
     return _check_scalar(key, value, tp, meta)
 

@@ -26,6 +26,7 @@ import math
 
 from numba import prange
 
+from .absorber import sigma
 from .jit import JIT, JIT_PARALLEL, njit
 
 
@@ -57,9 +58,14 @@ def time_step(cfl: float, h: float, c0: float, alpha: float, vmax: float, amax: 
 
 
 @njit(**JIT_PARALLEL)
-def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind, dt, euler):
-    """Advance fluid particles one step (see module docstring); walls are left alone."""
+def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind, dt, euler,
+                  ab):
+    """Advance fluid particles one step (see module docstring); walls are left alone.
+
+    ``ab`` describes the absorbing zone (:mod:`sph.absorber`); its damping is applied
+    implicitly to the new velocity."""
     half_dt2 = 0.5 * dt * dt
+    dt_eff = dt if euler else 2.0 * dt
     for i in prange(x.shape[0]):
         if kind[i] != 0:
             continue
@@ -73,6 +79,10 @@ def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind
             nvx = vx_old[i] + 2.0 * dt * ax[i]
             nvz = vz_old[i] + 2.0 * dt * az[i]
             nrho = rho_old[i] + 2.0 * dt * drho[i]
+        if ab[0] != 0.0:
+            fac = 1.0 / (1.0 + dt_eff * sigma(x[i], nvx, ab))
+            nvx *= fac
+            nvz *= fac
         vx_old[i] = vx[i]
         vz_old[i] = vz[i]
         rho_old[i] = rho[i]

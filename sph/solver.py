@@ -155,7 +155,7 @@ class Simulation:
                         self.kp, self._rho_buf)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
-                      p.drho, p.kind, self.dt, euler)
+                      p.drho, p.kind, self.dt, euler, self.setup.absorber)
         self.t += self.dt
         self.step = s
         self.evaluate()
@@ -198,7 +198,7 @@ class Simulation:
             "density_max": float(rho.max()),
         }
         for name, fn in self.setup.diagnostics.items():
-            values[name] = fn(p)
+            values[name] = fn(p, self.t)
         surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, self._surf_x, self.kp,
                                self._zfloor, 0.1 * self.cfg.numerics.dx)
         pres = point_pressures(p.x, p.z, p.m, p.rho, p.p, p.kind, self._pres_x, self._pres_z,
@@ -216,8 +216,9 @@ class Simulation:
             names = [pr.name for pr in self.cfg.probes.surface]
             surf = np.asarray(rec.surface).T
             probes["surface_height"] = (names, surf)
-            probes["probe_elevation"] = (names, surf - self.setup.attrs.get(
-                "still_level", self.setup.depth))
+            still = self.setup.still_level
+            probes["probe_elevation"] = (names, surf - (self.setup.depth if still is None
+                                                        else still))
         if len(self._pres_x):
             names = [pr.name for pr in self.cfg.probes.pressure]
             probes["probe_pressure"] = (names, np.asarray(rec.pressure).T)

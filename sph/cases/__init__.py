@@ -4,7 +4,7 @@
 overrides what it needs.
 """
 
-from . import dam_break, sloshing, still_water
+from . import dam_break, sloshing, still_water, wave_tank
 
 #: name -> module with ``Geometry``, ``defaults()``, ``check(cfg)`` and ``setup(cfg)``
 CASES = {
@@ -12,4 +12,5 @@ CASES = {
     "dam_break": dam_break,
     "sloshing_rect": sloshing.Rect,
     "sloshing_u": sloshing.UTank,
+    "wave_tank": wave_tank,
 }

@@ -31,9 +31,14 @@ class CaseSetup:
         Prescribed motions of the wall groups 1, 2, ... (group 0 is the fixed tank); each
         has ``kinematics(t) -> array of 9`` (see :mod:`sph.walls`).
     diagnostics : dict
-        Extra time series: name (registered in ``variables.yaml``) -> ``f(particles) -> float``.
+        Extra time series: name (registered in ``variables.yaml``) -> ``f(particles, t)``.
     attrs : dict
         Case parameters written as global attributes of the output.
+    absorber : array
+        Damping zone parameters (:func:`sph.absorber.absorber_params`); zeros = none.
+    still_level : float or None
+        Height of the still free surface (probe elevations are relative to it); ``depth``
+        if None.
     """
 
     particles: Particles
@@ -42,6 +47,8 @@ class CaseSetup:
     motions: list = field(default_factory=list)
     diagnostics: dict[str, Callable] = field(default_factory=dict)
     attrs: dict = field(default_factory=dict)
+    absorber: np.ndarray = field(default_factory=lambda: np.zeros(5))
+    still_level: float | None = None
 
 
 def load_defaults(name: str) -> dict:

@@ -55,7 +55,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     t = layers * dx
     bounds = (-t, g.tank_length + t, -t, g.tank_height + g.column_height)
 
-    def front(p):
+    def front(p, t):
         return float(np.max(p.x[p.kind == FLUID])) + 0.5 * dx
 
     return CaseSetup(parts, bounds, g.column_height, diagnostics={"front_position": front},

@@ -73,8 +73,8 @@ def _sloshing_setup(cfg: CaseConfig, tank: RoundedTank, height: float, fill: flo
         parts.vz_old[:nf] = parts.vz[:nf]
     t = layers * dx
     bounds = (tank.x0 - t, tank.x0 + width + t, tank.z0 - t, tank.z0 + 2.0 * height)
-    diags = {"centre_of_mass_x": lambda p: _centre_of_mass(p, 0),
-             "centre_of_mass_z": lambda p: _centre_of_mass(p, 1)}
+    diags = {"centre_of_mass_x": lambda p, t: _centre_of_mass(p, 0),
+             "centre_of_mass_z": lambda p, t: _centre_of_mass(p, 1)}
     attrs = dict(tank_width=width, tank_height=height, fill=fill, depth=depth,
                  amplitude=amplitude, init=init,
                  linear_frequency_rect=linear_frequency(width, depth, cfg.fluid.gravity))
