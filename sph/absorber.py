@@ -22,7 +22,7 @@ Two forms are offered (``form``):
 
 The two-sided form is the default: the one-sided form damps only half of each orbital cycle,
 which pumps a mean drift towards the end wall and lets the forward half-cycle reach the wall
-undamped; the tests show both reflection coefficients (see ``tests/test_wave_tank.py``).
+undamped.
 
 The zone travels to numba as a float array ``[mode, x0, l, c, dx]`` (mode 0 = no zone,
 1 = one-sided, 2 = two-sided).

@@ -13,7 +13,7 @@ import yaml
 from sph.cli import main
 from sph.config import load_case
 
-CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u"]
+CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank"]
 
 # A still-water tank small enough to run in about a second: 10 x 5 fluid particles.
 TINY_STILL_WATER = [
@@ -70,7 +70,7 @@ def test_cases_lists_the_four_cases(capsys):
     assert main(["cases"]) == 0
     out = capsys.readouterr().out
     lines = [ln for ln in out.splitlines() if ln.strip()]
-    assert len(lines) == 4
+    assert len(lines) == len(CASE_NAMES)
     assert [ln.split()[0] for ln in lines] == CASE_NAMES
     for ln in lines:  # each name comes with a one-line description
         assert len(ln.split()) > 1

@@ -259,8 +259,8 @@ def test_load_case_with_overrides(tmp_path):
 # --------------------------------------------------------------------------- built-in cases
 
 
-def test_four_builtin_cases():
-    assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u"}
+def test_builtin_case_names():
+    assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank"}
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

@@ -1,0 +1,64 @@
+"""Wave elevation at WP1 and WP2 against linear theory (analogue of Cao et al. 2019, Fig. 7).
+
+    python workflow/scripts/fig_wave_tank.py OUT.png RUN1.nc [RUN2.nc ...]
+
+Each run is a ``wave_tank`` output (e.g. at dx = 0.4 A, 0.2 A, 0.1 A). The theory curve has
+the linear-theory amplitude and period; its phase is matched to the finest run over the
+steady window (the flap's start-up transient is outside linear theory). Panel titles give the
+steady amplitude of every run.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from sph.analysis import harmonic_fit, wave_statistics  # noqa: E402
+
+WINDOW = (40.0, 60.0)
+
+
+def main(out: str, runs: list[str]) -> None:
+    sets = [xr.open_dataset(p) for p in runs]
+    sets.sort(key=lambda d: -float(d.attrs["dx"]))
+    probes = [p for p in ("WP1", "WP2") if p in sets[0].probe.values]
+    fig, axes = plt.subplots(len(probes), 1, figsize=(10, 3.2 * len(probes)), squeeze=False)
+    for ax, probe in zip(axes[:, 0], probes, strict=True):
+        notes = []
+        for ds in sets:
+            t = ds.time.values
+            eta = ds.probe_elevation.sel(probe=probe).values
+            omega = float(ds.attrs["omega"])
+            a = float(ds.attrs["theory_amplitude"])
+            s = wave_statistics(t, eta, omega, WINDOW)
+            dx = float(ds.attrs["dx"])
+            ax.plot(t, eta, lw=1, label=f"SPH dx = {dx:g} m = {dx / a:.2f} A")
+            notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m")
+        finest = sets[-1]
+        t = finest.time.values
+        z, _ = harmonic_fit(t[t >= WINDOW[0]], finest.probe_elevation.sel(probe=probe).values[
+            t >= WINDOW[0]], omega)
+        ax.plot(t, a * np.cos(omega * t + np.angle(z)), "k--", lw=1,
+                label=f"linear theory, A = {a:.3f} m")
+        ax.axvspan(*WINDOW, color="0.92", zorder=-1)
+        ax.set(ylabel=f"$\\eta$ at {probe} (m)",
+               title=f"{probe}: steady amplitude " + ", ".join(notes))
+        ax.legend(fontsize=8, loc="lower left", ncol=2)
+    axes[-1, 0].set_xlabel("t (s)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    for ds in sets:
+        ds.close()
+
+
+if __name__ == "__main__":
+    if "snakemake" in globals():
+        main(snakemake.output[0], list(snakemake.input))  # noqa: F821
+    else:
+        main(sys.argv[1], sys.argv[2:])
