@@ -319,7 +319,7 @@ def _progress_bar(t_end: float):
             self.update(min(t, t_end) - self.n)
 
     return Bar(total=t_end, unit="s", unit_scale=False, bar_format=(
-        "{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}, {postfix}]"))
+        "{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]"))
 
 
 def run_case(cfg: CaseConfig, out_path=None, *, progress=False, vtk_dir=None) -> Simulation:
