@@ -30,7 +30,7 @@ from .kernels import kernel_params, support_radius
 from .neighbours import CellGrid
 from .particles import FLUID
 from .probes import point_pressures, surface_heights
-from .walls import fixed_kinematics, place_walls, wall_pressure
+from .walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
 
 log = logging.getLogger(__name__)
 
@@ -83,6 +83,11 @@ class Simulation:
         self.grid = CellGrid(*self.setup.bounds, support_radius(self.kp))
         self.gx, self.gz = 0.0, -fl.gravity
         self.kin = fixed_kinematics(1 + len(self.setup.motions))
+        #: (group index, body) of the groups that move under fluid forces
+        self.free_bodies = [(k, m) for k, m in enumerate(self.setup.motions, start=1)
+                            if getattr(m, "free", False)]
+        nb = len(self.kin)
+        self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
@@ -135,6 +140,12 @@ class Simulation:
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho)
+        if self.free_bodies:
+            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+                        g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
+                        self._fz, self._mom)
+            for k, body in self.free_bodies:
+                body.set_forces(self._fx[k], self._fz[k], self._mom[k])
 
     def advance(self) -> None:
         """One time step (derivatives at the current level must be up to date)."""
@@ -156,6 +167,8 @@ class Simulation:
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)
+        for _, body in self.free_bodies:
+            body.update(self.dt, euler)
         self.t += self.dt
         self.step = s
         self.evaluate()
@@ -197,6 +210,13 @@ class Simulation:
             "density_min": float(rho.min()),
             "density_max": float(rho.max()),
         }
+        if self.free_bodies:
+            body = self.free_bodies[0][1]
+            values.update(body.motions())
+            forces = np.array([b.force for _, b in self.free_bodies])
+            values["body_force_x"] = forces[:, 0]
+            values["body_force_z"] = forces[:, 1]
+            values["body_moment"] = forces[:, 2]
         for name, fn in self.setup.diagnostics.items():
             values[name] = fn(p, self.t)
         surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, self._surf_x, self.kp,
@@ -211,6 +231,9 @@ class Simulation:
 
         rec = self.record
         series = {k: np.asarray(v) for k, v in rec.series.items()}
+        for name in ("body_force_x", "body_force_z", "body_moment"):
+            if name in series:  # (time, body) -> (body, time)
+                series[name] = series[name].T
         probes = {}
         if len(self._surf_x):
             names = [pr.name for pr in self.cfg.probes.surface]

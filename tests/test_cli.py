@@ -13,7 +13,8 @@ import yaml
 from sph.cli import main
 from sph.config import load_case
 
-CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank"]
+CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
+              "floating_box"]
 
 # A still-water tank small enough to run in about a second: 10 x 5 fluid particles.
 TINY_STILL_WATER = [

@@ -260,7 +260,8 @@ def test_load_case_with_overrides(tmp_path):
 
 
 def test_builtin_case_names():
-    assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank"}
+    assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
+                          "floating_box"}
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

@@ -4,7 +4,7 @@
 overrides what it needs.
 """
 
-from . import dam_break, sloshing, still_water, wave_tank
+from . import dam_break, floating_box, sloshing, still_water, wave_tank
 
 #: name -> module with ``Geometry``, ``defaults()``, ``check(cfg)`` and ``setup(cfg)``
 CASES = {
@@ -13,4 +13,5 @@ CASES = {
     "sloshing_rect": sloshing.Rect,
     "sloshing_u": sloshing.UTank,
     "wave_tank": wave_tank,
+    "floating_box": floating_box,
 }

@@ -1,0 +1,116 @@
+"""A freely floating box in a wave tank (the set-up of Hadžić et al. 2005, Cao et al. 2019
+Sec. III A): flap wavemaker at x = 0, absorbing zone at the far end, a solid box of given
+density floating at its hydrostatic draught with sway, heave and roll free.
+
+With ``wavemaker.theta0 = 0`` the tank is still and the box must stay at its hydrostatic
+draught ``d = (rho_box / rho0) * box_height`` (``heave_offset`` starts it displaced, for a
+heave free decay). The wavemaker may be driven by the experiment's flap file.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..absorber import AbsorberConfig, absorber_params
+from ..bodies import DofConfig, RigidBody
+from ..config import CaseConfig, ConfigError, spec
+from ..geometry import lattice, n_wall_layers
+from ..wavemaker import FlapConfig, FlapMotion, wavenumber
+from .base import CaseSetup, check_probes_inside, load_defaults, make_particles, support
+from .base import require_resolved
+
+
+@dataclass(frozen=True)
+class Geometry:
+    depth: float = spec(0.4, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    tank_length: float = spec(6.0, lo=0.0, lo_open=True, hi=1.0e5, unit="m")
+    tank_height: float = spec(0.6, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    box_width: float = spec(0.1, lo=0.0, lo_open=True, hi=1.0e3, unit="m")
+    box_height: float = spec(0.05, lo=0.0, lo_open=True, hi=1.0e3, unit="m")
+    box_x: float = spec(2.11, lo=0.0, hi=1.0e5, unit="m", doc="x of the box centre")
+    box_density: float = spec(680.0, lo=1.0, hi=1.0e5, unit="kg/m3",
+                              doc="below rho0 for the box to float")
+    box_inertia: float | None = spec(None, lo=0.0, lo_open=True, hi=1.0e9, unit="kg m",
+                                     doc="roll inertia per unit length about the centre of "
+                                     "gravity; default: homogeneous box m (w^2 + h^2) / 12")
+    heave_offset: float = spec(0.0, lo=-1.0e3, hi=1.0e3, unit="m",
+                               doc="initial displacement from the hydrostatic position")
+    dofs: DofConfig = field(default_factory=DofConfig)
+    wavemaker: FlapConfig = field(default_factory=FlapConfig)
+    absorber: AbsorberConfig = field(default_factory=AbsorberConfig)
+
+
+def defaults() -> dict:
+    return load_defaults("floating_box")
+
+
+def check(cfg: CaseConfig) -> None:
+    g = cfg.geometry
+    dx = cfg.numerics.dx
+    require_resolved("geometry.box_height", g.box_height, dx, cells=3)
+    require_resolved("geometry.box_width", g.box_width, dx, cells=3)
+    if g.box_density >= cfg.fluid.rho0:
+        raise ConfigError("geometry.box_density", f"must be in [1, fluid.rho0 = "
+                          f"{cfg.fluid.rho0:g}) kg/m3 for the box to float; got "
+                          f"{g.box_density:g}")
+    half = 0.5 * g.box_width
+    if not (dx * 4 + half <= g.box_x <= g.tank_length - half - 4 * dx):
+        raise ConfigError("geometry.box_x", f"must be in [{half + 4 * dx:g}, "
+                          f"{g.tank_length - half - 4 * dx:g}] m so that the box lies inside "
+                          f"the tank; got {g.box_x:g}")
+    if g.depth >= g.tank_height:
+        raise ConfigError("geometry.depth", f"must be in (0, geometry.tank_height = "
+                          f"{g.tank_height:g}) m; got {g.depth:g}")
+    ab = g.absorber
+    if ab.enabled and ab.start + ab.length > g.tank_length + 1e-9:
+        raise ConfigError("geometry.absorber.length", f"must be in (0, tank_length - start "
+                          f"= {g.tank_length - ab.start:g}] m; got {ab.length:g}")
+    check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
+
+
+def setup(cfg: CaseConfig) -> CaseSetup:
+    g, dx = cfg.geometry, cfg.numerics.dx
+    rho0 = cfg.fluid.rho0
+    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    t = layers * dx
+    draught = g.box_density / rho0 * g.box_height
+    bottom = g.depth - draught + g.heave_offset
+    cog = np.array([g.box_x, bottom + 0.5 * g.box_height])
+    # tank, flap and fluid on the tank lattice; fluid kept half a spacing clear of the box
+    pts = lattice(-t, g.tank_length + t, -t, g.tank_height, dx)
+    x, z = pts[:, 0], pts[:, 1]
+    gap = 0.5 * dx
+    in_box = ((np.abs(x - g.box_x) < 0.5 * g.box_width + gap)
+              & (z > bottom - gap) & (z < bottom + g.box_height + gap))
+    fluid_mask = (x > 0) & (x < g.tank_length) & (z > 0) & (z < g.depth) & ~in_box
+    tank_mask = ~((x > 0) & (x < g.tank_length) & (z > 0))
+    walls = pts[tank_mask]
+    body = np.where((walls[:, 0] < 0) & (walls[:, 1] > 0), 1, 0).astype(np.int32)
+    # the box: a solid lattice of its own, aligned with its faces
+    box = lattice(-0.5 * g.box_width, 0.5 * g.box_width, -0.5 * g.box_height,
+                  0.5 * g.box_height, dx)
+    walls = np.concatenate([walls, box + cog])
+    body_xz = np.concatenate([pts[tank_mask], box])
+    body = np.concatenate([body, np.full(len(box), 2, dtype=np.int32)])
+    parts = make_particles(cfg, pts[fluid_mask], walls, g.depth, g.depth, wall_body=body,
+                           wall_body_xz=body_xz)
+    mass = g.box_density * g.box_width * g.box_height
+    inertia = g.box_inertia or mass * (g.box_width**2 + g.box_height**2) / 12.0
+    flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)
+    box_body = RigidBody(mass, inertia, cog, g.dofs, cfg.fluid.gravity)
+    swing = g.tank_height * math.sin(min(4.0 * flap.theta0, 0.5)) + dx
+    bounds = (-t - swing, g.tank_length + t, -t, g.tank_height + g.depth)
+    k = wavenumber(g.wavemaker.omega, g.depth, cfg.fluid.gravity)
+    attrs = dict(depth=g.depth, tank_length=g.tank_length, box_width=g.box_width,
+                 box_height=g.box_height, box_x=g.box_x, box_density=g.box_density,
+                 box_mass=mass, box_inertia=inertia, draught=draught,
+                 heave_offset=g.heave_offset, theta0=flap.theta0, omega=g.wavemaker.omega,
+                 flap_file=g.wavemaker.file or "")
+    return CaseSetup(parts, bounds, g.depth, motions=[flap, box_body], attrs=attrs,
+                     diagnostics={"flap_angle": lambda p, time: math.degrees(
+                         flap.angle(time)[0])},
+                     absorber=absorber_params(g.absorber, g.wavemaker.omega / k, dx),
+                     still_level=g.depth)
