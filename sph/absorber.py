@@ -20,9 +20,8 @@ Two forms are offered (``form``):
     Eq. 16 as printed: only particles with :math:`v_x < 0` (flowing back towards the
     wavemaker) are damped.
 
-The two-sided form is the default: the one-sided form damps only half of each orbital cycle,
-which pumps a mean drift towards the end wall and lets the forward half-cycle reach the wall
-undamped.
+The two-sided form is the default: by construction the one-sided form leaves the forward half
+of each orbital cycle undamped, so a wave reaches the end wall less attenuated.
 
 The zone travels to numba as a float array ``[mode, x0, l, c, dx]`` (mode 0 = no zone,
 1 = one-sided, 2 = two-sided).
