@@ -100,7 +100,8 @@ def _run(args) -> int:
     try:
         sim.run(out, progress=not args.no_progress, vtk_dir=args.vtk)
     except SimulationError as exc:
-        print(f"error: {exc}; output up to t = {sim.record.time[-1] if sim.record.time else 0:.6g} s "
+        t_kept = sim.record.time[-1] if sim.record.time else 0.0
+        print(f"error: {exc}; output up to t = {t_kept:.6g} s "
               f"kept in {str(out)!r}", file=sys.stderr)
         return 3
     except KeyboardInterrupt:

@@ -3,7 +3,8 @@ r"""Fluid equations: continuity, momentum with gravity and artificial viscosity.
 Discrete forms of Cao et al. (2019):
 
 .. math::
-    \frac{D\rho_i}{Dt} = \rho_i \sum_j \frac{m_j}{\rho_j}(\mathbf{v}_i - \mathbf{v}_j)\cdot\nabla_i W_{ij}
+    \frac{D\rho_i}{Dt} = \rho_i \sum_j \frac{m_j}{\rho_j}
+    (\mathbf{v}_i - \mathbf{v}_j)\cdot\nabla_i W_{ij}
     \quad\text{(Eq. 2)}
 
 .. math::

@@ -78,7 +78,7 @@ def w_r2(r2, kp):
 
 @njit(**JIT)
 def f_r2(r2, kp):
-    r"""Gradient factor :math:`F` with :math:`\nabla_i W_{ij} = F\,\mathbf{r}_{ij}`; zero outside."""
+    r"""Gradient factor :math:`F`, :math:`\nabla_i W_{ij} = F\,\mathbf{r}_{ij}`; 0 outside."""
     if r2 >= kp[3]:
         return 0.0
     if kp[0] == 0.0:

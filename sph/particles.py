@@ -70,7 +70,7 @@ class Particles:
 
     @classmethod
     def from_arrays(cls, fluid_xz, fluid_rho, mass, wall_xz, wall_body, wall_body_xz,
-                    fluid_comp=None, wall_comp=None) -> "Particles":
+                    fluid_comp=None, wall_comp=None) -> Particles:
         """Build the set from fluid and wall positions (fluid first, then walls)."""
         nf, nw = len(fluid_xz), len(wall_xz)
         parts = cls(nf + nw)

@@ -265,7 +265,7 @@ class Simulation:
         write_netcdf_atomic(self.dataset(), path)
 
     # ------------------------------------------------------------------ driver
-    def run(self, out_path=None, *, progress: bool = False, vtk_dir=None) -> "Simulation":
+    def run(self, out_path=None, *, progress: bool = False, vtk_dir=None) -> Simulation:
         """Run to ``run.t_end`` (or ``run.max_steps``), writing ``out_path`` atomically.
 
         The partial output is rewritten every ``run.flush_seconds`` of wall time; on a

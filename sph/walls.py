@@ -11,7 +11,8 @@ acceleration (Eq. 11), and its density follows from the inverse Tait law (Eq. 12
 
 A wall particle without fluid in its support gets :math:`P_B = 0`. Rigid-body kinematics of
 a wall particle at :math:`\mathbf{r} = \mathbf{r}_B - \mathbf{r}_c` (Eq. 13):
-:math:`\mathbf{a}_B = \dot{\mathbf{V}} + \dot\Omega\times\mathbf{r} + \Omega\times\Omega\times\mathbf{r}`.
+:math:`\mathbf{a}_B = \dot{\mathbf{V}} + \dot\Omega\times\mathbf{r}
++ \Omega\times\Omega\times\mathbf{r}`.
 
 Body kinematics travel to numba as an array ``kin`` of shape ``(n_body, 9)`` with columns
 ``[xc, zc, theta, vxc, vzc, omega, axc, azc, alpha]`` (reference point, angle

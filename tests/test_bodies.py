@@ -2,8 +2,8 @@
 
 import numpy as np
 import pytest
-
 from physics_helpers import run_builtin
+
 from sph.bodies import DofConfig, RigidBody
 
 

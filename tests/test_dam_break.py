@@ -12,8 +12,8 @@ x = L + 2 sqrt(g H) t.
 """
 
 import numpy as np
-
 from physics_helpers import require_validation_data, run_builtin
+
 from sph.analysis import koshizuka_front, ritter_front
 
 

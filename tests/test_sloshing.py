@@ -8,8 +8,8 @@ free-surface position error of half a particle spacing (about 1 % at fill 25 %).
 """
 
 import pytest
-
 from physics_helpers import run_builtin
+
 from sph.analysis import oscillation_frequency
 from sph.cases.sloshing import linear_frequency
 

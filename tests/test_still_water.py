@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-
 from physics_helpers import run_builtin
 
 G, H, L = 9.81, 1.0, 1.0

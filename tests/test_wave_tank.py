@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-
 from physics_helpers import run_builtin
+
 from sph.analysis import reflection_coefficient, wave_statistics
 from sph.cases.base import load_defaults
 from sph.config import ConfigError, apply_overrides, build_case

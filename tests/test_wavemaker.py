@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 import pytest
-
 from physics_helpers import require_validation_data
+
 from sph.config import ConfigError
 from sph.particles import WALL
 from sph.walls import fixed_kinematics, place_walls

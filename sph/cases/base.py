@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import Callable
 
 import numpy as np
 import yaml
 
 from ..config import CaseConfig, ConfigError
 from ..eos import hydrostatic_density
-from ..kernels import SUPPORT, KERNELS
+from ..geometry import lattice
+from ..kernels import KERNELS, SUPPORT
 from ..particles import Particles
 
 
@@ -95,6 +96,29 @@ def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
     nf = len(fluid_xz)
     parts.rho[nf:] = cfg.fluid.rho0
     return parts
+
+
+def flap_tank_lattice(dx: float, layers: int, tank_length: float, tank_height: float):
+    """Lattice of a tank with a flap at x = 0 (hinged at the origin) and a fixed end wall.
+
+    Returns the points, the mask of points inside the tank (``0 < x < L``, ``z > 0``: fluid
+    candidates), the mask of wall points, and the motion group of each wall point: 1 for the
+    flap (``x < 0``, above the bottom), 0 for the fixed bottom and end wall."""
+    t = layers * dx
+    pts = lattice(-t, tank_length + t, -t, tank_height, dx)
+    x, z = pts[:, 0], pts[:, 1]
+    inside = (x > 0) & (x < tank_length) & (z > 0)
+    walls = ~inside
+    group = np.where((x[walls] < 0) & (z[walls] > 0), 1, 0).astype(np.int32)
+    return pts, inside, walls, group
+
+
+def check_absorber_fits(absorber, tank_length: float, key: str = "geometry.absorber") -> None:
+    """An enabled damping zone must end inside the tank."""
+    if absorber.enabled and absorber.start + absorber.length > tank_length + 1e-9:
+        raise ConfigError(f"{key}.length", f"must be in (0, tank_length - start = "
+                          f"{tank_length - absorber.start:g}] m so that the zone ends inside "
+                          f"the tank; got {absorber.length:g} (start {absorber.start:g} m)")
 
 
 def require_resolved(key: str, length: float, dx: float, cells: int = 4) -> None:

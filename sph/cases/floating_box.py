@@ -19,8 +19,16 @@ from ..bodies import DofConfig, RigidBody
 from ..config import CaseConfig, ConfigError, spec
 from ..geometry import lattice, n_wall_layers
 from ..wavemaker import FlapConfig, FlapMotion, wavenumber
-from .base import CaseSetup, check_probes_inside, load_defaults, make_particles, support
-from .base import require_resolved
+from .base import (
+    CaseSetup,
+    check_absorber_fits,
+    check_probes_inside,
+    flap_tank_lattice,
+    load_defaults,
+    make_particles,
+    require_resolved,
+    support,
+)
 
 
 @dataclass(frozen=True)
@@ -64,10 +72,7 @@ def check(cfg: CaseConfig) -> None:
     if g.depth >= g.tank_height:
         raise ConfigError("geometry.depth", f"must be in (0, geometry.tank_height = "
                           f"{g.tank_height:g}) m; got {g.depth:g}")
-    ab = g.absorber
-    if ab.enabled and ab.start + ab.length > g.tank_length + 1e-9:
-        raise ConfigError("geometry.absorber.length", f"must be in (0, tank_length - start "
-                          f"= {g.tank_length - ab.start:g}] m; got {ab.length:g}")
+    check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
 
 
@@ -80,15 +85,13 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     bottom = g.depth - draught + g.heave_offset
     cog = np.array([g.box_x, bottom + 0.5 * g.box_height])
     # tank, flap and fluid on the tank lattice; fluid kept half a spacing clear of the box
-    pts = lattice(-t, g.tank_length + t, -t, g.tank_height, dx)
+    pts, inside, tank_mask, body = flap_tank_lattice(dx, layers, g.tank_length, g.tank_height)
     x, z = pts[:, 0], pts[:, 1]
     gap = 0.5 * dx
     in_box = ((np.abs(x - g.box_x) < 0.5 * g.box_width + gap)
               & (z > bottom - gap) & (z < bottom + g.box_height + gap))
-    fluid_mask = (x > 0) & (x < g.tank_length) & (z > 0) & (z < g.depth) & ~in_box
-    tank_mask = ~((x > 0) & (x < g.tank_length) & (z > 0))
+    fluid_mask = inside & (z < g.depth) & ~in_box
     walls = pts[tank_mask]
-    body = np.where((walls[:, 0] < 0) & (walls[:, 1] > 0), 1, 0).astype(np.int32)
     # the box: a solid lattice of its own, aligned with its faces
     box = lattice(-0.5 * g.box_width, 0.5 * g.box_width, -0.5 * g.box_height,
                   0.5 * g.box_height, dx)

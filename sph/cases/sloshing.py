@@ -30,8 +30,14 @@ import numpy as np
 from ..config import CaseConfig, ConfigError, spec
 from ..geometry import RoundedTank, n_wall_layers, tank_particles
 from ..particles import FLUID
-from .base import CaseSetup, check_probes_inside, load_defaults, make_particles, support
-from .base import require_resolved
+from .base import (
+    CaseSetup,
+    check_probes_inside,
+    load_defaults,
+    make_particles,
+    require_resolved,
+    support,
+)
 
 
 def linear_frequency(length: float, depth: float, g: float = 9.81, mode: int = 1) -> float:
@@ -86,7 +92,8 @@ def _check_common(cfg: CaseConfig, width: float, height: float) -> None:
     depth = g.fill * height
     require_resolved("geometry.fill", depth, cfg.numerics.dx)
     if g.amplitude > 0.2 * min(depth, height - depth):
-        raise ConfigError("geometry.amplitude", f"must be in [0, {0.2 * min(depth, height - depth):g}] m "
+        limit = 0.2 * min(depth, height - depth)
+        raise ConfigError("geometry.amplitude", f"must be in [0, {limit:g}] m "
                           "(20 % of the depth and of the freeboard) for a linear free decay; "
                           f"got {g.amplitude:g}")
     check_probes_inside(cfg, 0.0, width, 0.0, height)

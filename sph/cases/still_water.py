@@ -6,8 +6,14 @@ from dataclasses import dataclass
 
 from ..config import CaseConfig, ConfigError, spec
 from ..geometry import RoundedTank, n_wall_layers, tank_particles
-from .base import CaseSetup, check_probes_inside, load_defaults, make_particles, support
-from .base import require_resolved
+from .base import (
+    CaseSetup,
+    check_probes_inside,
+    load_defaults,
+    make_particles,
+    require_resolved,
+    support,
+)
 
 
 @dataclass(frozen=True)

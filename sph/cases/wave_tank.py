@@ -12,14 +12,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from ..absorber import AbsorberConfig, absorber_params
 from ..config import CaseConfig, ConfigError, spec
-from ..geometry import lattice, n_wall_layers
+from ..geometry import n_wall_layers
 from ..wavemaker import FlapConfig, FlapMotion, flap_wave_amplitude, wavenumber
-from .base import CaseSetup, check_probes_inside, load_defaults, make_particles, support
-from .base import require_resolved
+from .base import (
+    CaseSetup,
+    check_absorber_fits,
+    check_probes_inside,
+    flap_tank_lattice,
+    load_defaults,
+    make_particles,
+    require_resolved,
+    support,
+)
 
 
 @dataclass(frozen=True)
@@ -38,11 +44,7 @@ class Geometry:
         if self.depth >= self.tank_height:
             raise ConfigError(f"{key}.depth", f"must be in (0, geometry.tank_height = "
                               f"{self.tank_height:g}) m; got {self.depth:g}")
-        ab = self.absorber
-        if ab.enabled and ab.start + ab.length > self.tank_length + 1e-9:
-            raise ConfigError(f"{key}.absorber.length", f"must be in (0, tank_length - start "
-                              f"= {self.tank_length - ab.start:g}] m so that the zone ends "
-                              f"inside the tank; got {ab.length:g} (start {ab.start:g} m)")
+        check_absorber_fits(self.absorber, self.tank_length, f"{key}.absorber")
 
 
 def defaults() -> dict:
@@ -71,15 +73,9 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
     t = layers * dx
-    pts = lattice(-t, g.tank_length + t, -t, g.tank_height, dx)
-    x, z = pts[:, 0], pts[:, 1]
-    fluid_mask = (x > 0) & (x < g.tank_length) & (z > 0) & (z < g.depth)
-    flap_mask = (x < 0) & (z > 0)
-    wall_mask = ~fluid_mask & ~((x > 0) & (x < g.tank_length) & (z > 0))
+    pts, inside, wall_mask, body = flap_tank_lattice(dx, layers, g.tank_length, g.tank_height)
+    fluid_mask = inside & (pts[:, 1] < g.depth)
     walls = pts[wall_mask]
-    body = np.where(walls[:, 0] < 0, 1, 0).astype(np.int32)
-    body[walls[:, 1] < 0] = 0  # the bottom under the flap stays fixed
-    assert np.all(flap_mask[wall_mask] == (body == 1))
     parts = make_particles(cfg, pts[fluid_mask], walls, g.depth, g.depth, wall_body=body,
                            wall_body_xz=walls)
     th = theory(cfg)
