@@ -85,9 +85,7 @@ def _run(args) -> int:
         print(f"error: invalid case {str(args.case_file)!r}: {exc}", file=sys.stderr)
         return 2
     log = logging.getLogger("sph")
-    log.info("%s: %d fluid + %d wall particles, dx = %g m, h = %g m, c0 = %.4g m/s, "
-             "%d thread(s)", cfg.case, sim.n_fluid, sim.parts.n - sim.n_fluid,
-             cfg.numerics.dx, sim.h, sim.c0, sim.threads)
+    log.info("%s", sim.summary())
     if args.check:
         print("case is valid")
         return 0

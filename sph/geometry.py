@@ -55,20 +55,6 @@ class RoundedTank:
                 out = np.where(corner, np.hypot(x - cx, z - cz) - r, out)
         return out
 
-    def fill_level_area(self, level: float) -> float:
-        """Area (m^2) of the tank section below ``z0 + level``."""
-        r = min(self.radius, self.width / 2)
-        if level <= 0:
-            return 0.0
-        if level >= r:
-            return self.width * level - (2.0 - math.pi / 2.0) * r * r
-        # circular segments in the corners below height < r
-        zs = np.linspace(0.0, level, 2001)
-        half = r - np.sqrt(np.maximum(r * r - (r - zs) ** 2, 0.0))
-        widths = self.width - 2.0 * half
-        a = np.trapezoid(widths, zs)
-        return float(a)
-
 
 def tank_particles(tank: RoundedTank, dx: float, n_layers: int, wall_top: float,
                    fluid_level: float | None):

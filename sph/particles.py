@@ -65,9 +65,6 @@ class Particles:
         self.f, self._f_buf = self._f_buf, self.f
         self.i, self._i_buf = self._i_buf, self.i
 
-    def fluid_mask(self) -> np.ndarray:
-        return self.kind == FLUID
-
     @classmethod
     def from_arrays(cls, fluid_xz, fluid_rho, mass, wall_xz, wall_body, wall_body_xz,
                     fluid_comp=None, wall_comp=None) -> Particles:

@@ -88,6 +88,7 @@ class Simulation:
                             if getattr(m, "free", False)]
         nb = len(self.kin)
         self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
+        self._pf = np.zeros((self.parts.n, 3)) if self.free_bodies else None
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
@@ -143,7 +144,7 @@ class Simulation:
         if self.free_bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
-                        self._fz, self._mom)
+                        self._fz, self._mom, self._pf)
             for k, body in self.free_bodies:
                 body.set_forces(self._fx[k], self._fz[k], self._mom[k])
 
@@ -256,6 +257,13 @@ class Simulation:
         return build_dataset(rec.time, series, probes=probes or None, attrs=attrs,
                              config_yaml=self.cfg.to_yaml())
 
+    def summary(self) -> str:
+        """One line describing the prepared run."""
+        num = self.cfg.numerics
+        return (f"{self.cfg.case}: {self.n_fluid} fluid + {self.parts.n - self.n_fluid} wall "
+                f"particles, dx = {num.dx:g} m, h = {self.h:g} m, c0 = {self.c0:.4g} m/s, "
+                f"{self.threads} thread(s), sph-flood {__version__}")
+
     def particle_steps_per_second(self) -> float:
         return self.parts.n * self.step / self.wall_seconds if self.wall_seconds else 0.0
 
@@ -343,12 +351,3 @@ def _progress_bar(t_end: float):
 
     return Bar(total=t_end, unit="s", unit_scale=False, bar_format=(
         "{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]"))
-
-
-def run_case(cfg: CaseConfig, out_path=None, *, progress=False, vtk_dir=None) -> Simulation:
-    """Build and run a case; returns the finished :class:`Simulation`."""
-    sim = Simulation(cfg)
-    log.info("%s: %d fluid + %d wall particles, dx = %g m, h = %g m, c0 = %.4g m/s, "
-             "%d thread(s), sph-flood %s", cfg.case, sim.n_fluid, sim.parts.n - sim.n_fluid,
-             cfg.numerics.dx, sim.h, sim.c0, sim.threads, __version__)
-    return sim.run(out_path, progress=progress, vtk_dir=vtk_dir)

@@ -107,17 +107,17 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
-                n_body, fx, fz, mom):
+                n_body, fx, fz, mom, pf):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
               \frac{m_i}{\rho_i}
 
     Per-particle values are reduced per group afterwards; the moment is taken about the
-    group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``)."""
+    group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
+    ``(n, 3)`` work array for the per-particle values (reused between steps)."""
     n = x.shape[0]
     r2max = kp[3]
-    pf = np.zeros((n, 3))
     for i in prange(n):
         if kind[i] != 1 or body[i] == 0:
             continue
