@@ -69,6 +69,15 @@ class RigidBody:
         self.v_old[:] = self.v
         self.v[:] = new_v * self.mask
 
+    def get_state(self) -> dict:
+        """Everything :meth:`update` and :meth:`kinematics` depend on (for checkpoints)."""
+        return {"q": self.q.copy(), "v": self.v.copy(), "v_old": self.v_old.copy(),
+                "a": self.a.copy(), "force": self.force.copy()}
+
+    def set_state(self, state: dict) -> None:
+        for key in ("q", "v", "v_old", "a", "force"):
+            getattr(self, key)[:] = state[key]
+
     def motions(self) -> dict:
         """Sway (m), heave (m) and roll (degree, positive towards +x) from the start."""
         return {"sway": float(self.q[0] - self.q0[0]), "heave": float(self.q[1] - self.q0[1]),

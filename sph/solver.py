@@ -88,14 +88,13 @@ class Simulation:
                             if getattr(m, "free", False)]
         nb = len(self.kin)
         self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
-        self._pf = np.zeros((self.parts.n, 3)) if self.free_bodies else None
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
-        n = self.parts.n
-        self._grx = np.zeros(n)
-        self._grz = np.zeros(n)
-        self._rho_buf = np.zeros(n)
+        self._allocate_work()
+        #: objects whose state a checkpoint must hold besides the particles: each has
+        #: ``get_state() -> dict`` (numpy arrays and scalars) and ``set_state(dict)``
+        self.stateful = [body for _, body in self.free_bodies]
         self.t = 0.0
         self.step = 0
         self.dt = 0.0
@@ -111,6 +110,14 @@ class Simulation:
         self._zfloor = self.setup.bounds[2]
         self.wall_seconds = 0.0
         self.status = "not started"
+
+    def _allocate_work(self) -> None:
+        """Per-particle work arrays; call again when the number of particles changes."""
+        n = self.parts.n
+        self._pf = np.zeros((n, 3)) if self.free_bodies else None
+        self._grx = np.zeros(n)
+        self._grz = np.zeros(n)
+        self._rho_buf = np.zeros(n)
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
