@@ -52,17 +52,23 @@ class AbsorberConfig:
                      "those with vx < 0")
 
 
-def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float) -> np.ndarray:
-    """Pack the zone for the numba update (``speed`` used when ``cfg.speed`` is None)."""
+def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
+                    pitch: float = 0.0) -> np.ndarray:
+    """Pack the zone for the numba update (``speed`` used when ``cfg.speed`` is None).
+
+    ``pitch`` > 0 repeats the zone every ``pitch`` metres along x: the tanks of the strip
+    segments of a ship lie side by side at that spacing (:mod:`sph.cases.ship`)."""
     if cfg is None or not cfg.enabled:
-        return np.zeros(5)
+        return np.zeros(6)
     c = cfg.speed if cfg.speed is not None else speed
-    return np.array([FORMS[cfg.form], cfg.start, cfg.length, c, dx], dtype=np.float64)
+    return np.array([FORMS[cfg.form], cfg.start, cfg.length, c, dx, pitch], dtype=np.float64)
 
 
 @njit(**JIT)
 def sigma(x, vx, ab):
     """Damping rate (1/s) at ``x`` for a particle moving with ``vx``; 0 outside the zone."""
+    if ab[0] != 0.0 and ab[5] > 0.0:
+        x -= ab[5] * np.floor(x / ab[5])
     if ab[0] == 0.0 or x <= ab[1]:
         return 0.0
     if ab[0] == 1.0 and vx >= 0.0:

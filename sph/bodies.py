@@ -36,25 +36,60 @@ class DofConfig:
 
 
 class RigidBody:
-    """State of one rigid body (a wall group moving under fluid forces)."""
+    """State of one rigid body (wall groups moving under fluid forces).
+
+    Parameters
+    ----------
+    mass, inertia : float
+        Mass (kg/m) and roll inertia about the centre of gravity (kg m) per unit length.
+    cog : pair of float
+        Initial centre of gravity (m) in the frame of the first segment.
+    dofs : DofConfig
+        Free motions.
+    gravity : float
+        g (m/s2).
+    segments : sequence of (group, weight, x_offset)
+        The wall groups that carry this body (one per strip segment), the fraction of the
+        body's length each stands for (weights sum to 1: strip theory, Cao et al. Eq. 9) and
+        the x offset of that segment's tank. A single 2-D body: ``[(group, 1.0, 0.0)]``.
+    """
 
     free = True
 
-    def __init__(self, mass: float, inertia: float, cog, dofs: DofConfig, gravity: float):
+    def __init__(self, mass: float, inertia: float, cog, dofs: DofConfig, gravity: float,
+                 segments=((1, 1.0, 0.0),)):
         self.mass = float(mass)
         self.inertia = float(inertia)
         self.g = float(gravity)
         self.mask = np.array([dofs.sway, dofs.heave, dofs.roll], dtype=np.float64)
+        self.segments = [(int(g), float(w), float(x)) for g, w, x in segments]
+        total = sum(w for _, w, _ in self.segments)
+        if abs(total - 1.0) > 1e-12:
+            raise ValueError(f"segment weights must sum to 1; got {total:g}")
         self.q0 = np.array([cog[0], cog[1], 0.0])
         self.q = self.q0.copy()
         self.v = np.zeros(3)
         self.v_old = np.zeros(3)
         self.a = np.zeros(3)
         self.force = np.zeros(3)  # fluid fx, fz (N/m) and moment (N) about the cog
+        #: force and moment per unit length on each segment (last evaluation)
+        self.segment_force = np.zeros((len(self.segments), 3))
+
+    def segment_motion(self, k: int) -> Shifted:
+        """Kinematics source of segment ``k``'s wall group."""
+        return Shifted(self, self.segments[k][2])
 
     def kinematics(self, t: float = 0.0) -> np.ndarray:
         """Row of :data:`sph.walls.KIN_COLUMNS` for the wall particles of this body."""
         return np.concatenate([self.q, self.v, self.a])
+
+    def collect_forces(self, fx, fz, mom) -> None:
+        """Weighted sum of the per-group forces (arrays indexed by wall group) -> accelerations."""
+        for k, (g, _, _) in enumerate(self.segments):
+            self.segment_force[k] = (fx[g], fz[g], mom[g])
+        w = np.array([s[1] for s in self.segments])
+        total = w @ self.segment_force
+        self.set_forces(*total)
 
     def set_forces(self, fx: float, fz: float, moment: float) -> None:
         """Fluid force and moment per unit length -> accelerations (masked)."""
@@ -82,3 +117,17 @@ class RigidBody:
         """Sway (m), heave (m) and roll (degree, positive towards +x) from the start."""
         return {"sway": float(self.q[0] - self.q0[0]), "heave": float(self.q[1] - self.q0[1]),
                 "roll": float(-np.degrees(self.q[2]))}
+
+
+class Shifted:
+    """The kinematics of another motion, translated by ``x_offset`` along x (the copy of a
+    body or a flap in another strip segment's tank)."""
+
+    def __init__(self, motion, x_offset: float):
+        self.motion = motion
+        self.x_offset = float(x_offset)
+
+    def kinematics(self, t: float = 0.0) -> np.ndarray:
+        k = np.array(self.motion.kinematics(t), dtype=np.float64)
+        k[0] += self.x_offset
+        return k

@@ -9,7 +9,7 @@ with :math:`\boldsymbol\beta_i = \mathbf{A}_i^{-1}(1, 0, 0)^T` and
 :math:`\mathbf{A}_i = \sum_j W_{ij}\tilde{\mathbf{A}}_{ij} V_j`,
 :math:`\tilde{\mathbf{A}}_{ij} = \mathbf{p}_{ij}\mathbf{p}_{ij}^T`, :math:`\mathbf{p}_{ij} =
 (1, x_i - x_j, z_i - z_j)`. The sum runs over fluid and wall particles of the same
-compartment (wall densities carry the extrapolated hydrostatic pressure). Where
+compartment (and fluid particles seen through an open damage opening, :mod:`sph.damage`) (wall densities carry the extrapolated hydrostatic pressure). Where
 :math:`\mathbf{A}_i` is ill-conditioned (isolated particles) the zeroth-order Shepard
 filter is used instead. A linear density field is reproduced exactly.
 
@@ -26,12 +26,13 @@ from __future__ import annotations
 
 from numba import prange
 
+from .damage import passable
 from .jit import JIT_PARALLEL, njit
 from .kernels import f_r2, w_r2
 
 
 @njit(**JIT_PARALLEL)
-def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out):
+def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out, op, kin):
     """First-order MLS density of every fluid particle into ``out`` (walls copied)."""
     n = x.shape[0]
     r2max = kp[3]
@@ -47,12 +48,13 @@ def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out):
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if comp[j] != ci:
-                    continue
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max:
+                    continue
+                if comp[j] != ci and (kind[j] != 0 or not passable(
+                        xi, zi, x[j], z[j], ci, comp[j], op, kin)):
                     continue
                 w = w_r2(r2, kp)
                 mw = m[j] * w
@@ -80,7 +82,7 @@ def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out):
 
 @njit(**JIT_PARALLEL)
 def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp,
-                                  grx, grz):
+                                  grx, grz, op, kin):
     """Renormalised density gradient of every fluid particle (zero where L is singular)."""
     n = x.shape[0]
     r2max = kp[3]
@@ -98,12 +100,14 @@ def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start,
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != 0 or comp[j] != ci or j == i:
+                if kind[j] != 0 or j == i:
                     continue
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max:
+                    continue
+                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
                     continue
                 fv = f_r2(r2, kp) * m[j] / rho[j]
                 mxx -= fv * dx * dx

@@ -27,20 +27,22 @@ Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid pa
 with the renormalised density gradient of :func:`sph.filters.renormalised_density_gradient`.
 
 The loop is a gather over fluid particles (no writes to neighbours, no races); pairs
-interact only when their compartment ids match (thin walls).
+interact only when their compartment ids match (thin walls), or, for two fluid particles,
+when the segment between them passes through an open damage opening (:mod:`sph.damage`).
 """
 
 from __future__ import annotations
 
 from numba import prange
 
+from .damage import passable
 from .jit import JIT_PARALLEL, njit
 from .kernels import f_r2
 
 
 @njit(**JIT_PARALLEL)
 def interact(x, z, vx, vz, rho, p, m, kind, comp, cell_of, cell_start, ncx, kp,
-             visc_coef, gx, gz, delta_coef, grx, grz, ax, az, drho):
+             visc_coef, gx, gz, delta_coef, grx, grz, ax, az, drho, op, kin):
     """Accelerations ``ax, az`` and density rates ``drho`` of all fluid particles.
 
     Parameters
@@ -51,6 +53,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, comp, cell_of, cell_start, ncx, kp,
         :math:`\\delta h c_0` (zero disables the diffusive term; then ``grx, grz`` are unused).
     grx, grz : arrays
         Renormalised density gradient of each particle (delta-SPH only).
+    op, kin : arrays
+        Damage opening (:mod:`sph.damage`) and body kinematics (:mod:`sph.walls`).
     """
     n = x.shape[0]
     r2max = kp[3]
@@ -78,7 +82,10 @@ def interact(x, z, vx, vz, rho, p, m, kind, comp, cell_of, cell_start, ncx, kp,
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
-                if r2 >= r2max or j == i or comp[j] != ci:
+                if r2 >= r2max or j == i:
+                    continue
+                if comp[j] != ci and (kind[j] != 0 or not passable(
+                        xi, zi, x[j], z[j], ci, comp[j], op, kin)):
                     continue
                 fw = f_r2(r2, kp)
                 rhoj = rho[j]

@@ -65,6 +65,15 @@ class Particles:
         self.f, self._f_buf = self._f_buf, self.f
         self.i, self._i_buf = self._i_buf, self.i
 
+    def take(self, keep: np.ndarray) -> Particles:
+        """A new set holding the particles where ``keep`` is True (order kept)."""
+        out = Particles.__new__(Particles)
+        out.f = np.ascontiguousarray(self.f[:, keep])
+        out.i = np.ascontiguousarray(self.i[:, keep])
+        out._f_buf = np.empty_like(out.f)
+        out._i_buf = np.empty_like(out.i)
+        return out
+
     @classmethod
     def from_arrays(cls, fluid_xz, fluid_rho, mass, wall_xz, wall_body, wall_body_xz,
                     fluid_comp=None, wall_comp=None) -> Particles:

@@ -19,8 +19,10 @@ from .kernels import w_r2
 
 
 @njit(**JIT)
-def surface_heights(x, z, m, rho, kind, xp, kp, zfloor, dz):
-    """Free-surface height (absolute z, m) at each probe abscissa ``xp``."""
+def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz):
+    """Free-surface height (absolute z, m) at each probe abscissa ``xp``.
+
+    Only fluid of compartment ``cfilter`` counts (all fluid if ``cfilter < 0``)."""
     radius = np.sqrt(kp[3])
     out = np.full(xp.shape[0], np.nan)
     n = x.shape[0]
@@ -29,7 +31,8 @@ def surface_heights(x, z, m, rho, kind, xp, kp, zfloor, dz):
         nc = 0
         ztop = -1.0e300
         for j in range(n):
-            if kind[j] == 0 and abs(x[j] - xp[k]) < radius:
+            if (kind[j] == 0 and (cfilter < 0 or comp[j] == cfilter)
+                    and abs(x[j] - xp[k]) < radius):
                 cand[nc] = j
                 nc += 1
                 if z[j] > ztop:

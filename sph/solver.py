@@ -21,6 +21,7 @@ from . import __version__
 from .cases import CASES
 from .cases.base import CaseSetup, b_coef
 from .config import CaseConfig
+from .damage import no_opening
 from .eos import fluid_pressures
 from .filters import mls_density, renormalised_density_gradient
 from .fluid import interact
@@ -83,18 +84,22 @@ class Simulation:
         self.grid = CellGrid(*self.setup.bounds, support_radius(self.kp))
         self.gx, self.gz = 0.0, -fl.gravity
         self.kin = fixed_kinematics(1 + len(self.setup.motions))
-        #: (group index, body) of the groups that move under fluid forces
-        self.free_bodies = [(k, m) for k, m in enumerate(self.setup.motions, start=1)
-                            if getattr(m, "free", False)]
+        #: rigid bodies that move under fluid forces (each spans one or more wall groups)
+        self.bodies = list(self.setup.bodies)
         nb = len(self.kin)
         self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
+        #: damage opening parameters for the kernels (:mod:`sph.damage`)
+        self.op = (self.setup.opening.params if self.setup.opening is not None
+                   else no_opening())
+        self.force_scale = (self.setup.force_scale if self.setup.force_scale is not None
+                            else np.ones(int(self.parts.comp.max()) + 1))
         self._allocate_work()
         #: objects whose state a checkpoint must hold besides the particles: each has
         #: ``get_state() -> dict`` (numpy arrays and scalars) and ``set_state(dict)``
-        self.stateful = [body for _, body in self.free_bodies]
+        self.stateful = list(self.bodies) + list(self.setup.events)
         self.t = 0.0
         self.step = 0
         self.dt = 0.0
@@ -114,7 +119,7 @@ class Simulation:
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""
         n = self.parts.n
-        self._pf = np.zeros((n, 3)) if self.free_bodies else None
+        self._pf = np.zeros((n, 3)) if self.bodies else None
         self._grx = np.zeros(n)
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
@@ -130,6 +135,9 @@ class Simulation:
         if self.setup.motions:
             self._kinematics(self.t)
             place_walls(p.x, p.z, p.vx, p.vz, p.bx, p.bz, p.kind, p.body, self.kin)
+        for event in self.setup.events:
+            event.apply(self)  # may replace self.parts
+        p = self.parts
         g = self.grid
         n_out = g.sort(p.x, p.z)
         if n_out:
@@ -144,16 +152,18 @@ class Simulation:
                       self.b, fl.gamma, self.cfg.numerics.dx**2)
         if self.delta_coef:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
-                                          g.cell_start, g.ncx, self.kp, self._grx, self._grz)
+                                          g.cell_start, g.ncx, self.kp, self._grx, self._grz,
+                                          self.op, self.kin)
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
-                 self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho)
-        if self.free_bodies:
+                 self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho, self.op,
+                 self.kin)
+        if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
-                        self._fz, self._mom, self._pf)
-            for k, body in self.free_bodies:
-                body.set_forces(self._fx[k], self._fz[k], self._mom[k])
+                        self._fz, self._mom, self._pf, self.force_scale)
+            for body in self.bodies:
+                body.collect_forces(self._fx, self._fz, self._mom)
 
     def advance(self) -> None:
         """One time step (derivatives at the current level must be up to date)."""
@@ -171,11 +181,11 @@ class Simulation:
         if mls_due:
             g = self.grid
             mls_density(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of, g.cell_start, g.ncx,
-                        self.kp, self._rho_buf)
+                        self.kp, self._rho_buf, self.op, self.kin)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)
-        for _, body in self.free_bodies:
+        for body in self.bodies:
             body.update(self.dt, euler)
         self.t += self.dt
         self.step = s
@@ -218,19 +228,21 @@ class Simulation:
             "density_min": float(rho.min()),
             "density_max": float(rho.max()),
         }
-        if self.free_bodies:
-            body = self.free_bodies[0][1]
-            values.update(body.motions())
-            forces = np.array([b.force for _, b in self.free_bodies])
+        if self.bodies:
+            values.update(self.bodies[0].motions())
+            forces = np.array([b.force for b in self.bodies])
             values["body_force_x"] = forces[:, 0]
             values["body_force_z"] = forces[:, 1]
             values["body_moment"] = forces[:, 2]
         for name, fn in self.setup.diagnostics.items():
             values[name] = fn(p, self.t)
-        surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, self._surf_x, self.kp,
+        surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, p.comp, self.setup.probe_comp,
+                               self._surf_x, self.kp,
                                self._zfloor, 0.1 * self.cfg.numerics.dx)
         pres = point_pressures(p.x, p.z, p.m, p.rho, p.p, p.kind, self._pres_x, self._pres_z,
                                self.kp, self.gx, self.gz)
+        if self.setup.extra_probes:
+            surf = np.concatenate([surf, [fn(p) for fn, _ in self.setup.extra_probes.values()]])
         self.record.add(self.t, values, surf, pres)
 
     def dataset(self):
@@ -243,13 +255,14 @@ class Simulation:
             if name in series:  # (time, body) -> (body, time)
                 series[name] = series[name].T
         probes = {}
-        if len(self._surf_x):
-            names = [pr.name for pr in self.cfg.probes.surface]
-            surf = np.asarray(rec.surface).T
+        names = [pr.name for pr in self.cfg.probes.surface] + list(self.setup.extra_probes)
+        if names:
+            surf = np.asarray(rec.surface).T.reshape(len(names), -1)
+            still = self.setup.depth if self.setup.still_level is None else self.setup.still_level
+            ref = np.array([still] * len(self._surf_x)
+                           + [r for _, r in self.setup.extra_probes.values()])
             probes["surface_height"] = (names, surf)
-            still = self.setup.still_level
-            probes["probe_elevation"] = (names, surf - (self.setup.depth if still is None
-                                                        else still))
+            probes["probe_elevation"] = (names, surf - ref[:, None])
         if len(self._pres_x):
             names = [pr.name for pr in self.cfg.probes.pressure]
             probes["probe_pressure"] = (names, np.asarray(rec.pressure).T)

@@ -107,7 +107,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
-                n_body, fx, fz, mom, pf):
+                n_body, fx, fz, mom, pf, scale):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -115,7 +115,8 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
 
     Per-particle values are reduced per group afterwards; the moment is taken about the
     group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
-    ``(n, 3)`` work array for the per-particle values (reused between steps)."""
+    ``(n, 3)`` work array for the per-particle values (reused between steps); the force of
+    the fluid of compartment ``c`` is multiplied by ``scale[c]``."""
     n = x.shape[0]
     r2max = kp[3]
     for i in prange(n):
@@ -141,6 +142,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
                 sx += fw * dx
                 sz += fw * dz
         b = body[i]
+        vi *= scale[ci]
         pf[i, 0] = -vi * sx
         pf[i, 1] = -vi * sz
         pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]

@@ -4,7 +4,7 @@
 overrides what it needs.
 """
 
-from . import dam_break, floating_box, sloshing, still_water, wave_tank
+from . import dam_break, floating_box, ship, sloshing, still_water, wave_tank
 
 #: name -> module with ``Geometry``, ``defaults()``, ``check(cfg)`` and ``setup(cfg)``
 CASES = {
@@ -14,4 +14,6 @@ CASES = {
     "sloshing_u": sloshing.UTank,
     "wave_tank": wave_tank,
     "floating_box": floating_box,
+    "ship_decay": ship.ShipDecay,
+    "damaged_ship": ship.DamagedShip,
 }

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 from importlib import resources
 
 import numpy as np
@@ -40,6 +41,23 @@ class CaseSetup:
     still_level : float or None
         Height of the still free surface (probe elevations are relative to it); ``depth``
         if None.
+    bodies : list
+        Rigid bodies moving under fluid forces (:class:`sph.bodies.RigidBody`); their wall
+        groups' entries in ``motions`` are the bodies themselves or their segment views.
+    events : list
+        Objects with ``apply(sim)`` called before every evaluation (e.g. a damage opening),
+        and ``get_state()``/``set_state()`` for checkpoints.
+    extra_probes : dict
+        Further surface probes (e.g. body-fixed): name -> ``(f(particles) -> height (m),
+        reference height (m))``; appended to ``surface_height`` and ``probe_elevation``
+        (height minus reference).
+    opening : DamageOpening or None
+        The damage opening (:class:`sph.damage.DamageOpening`), also listed in ``events``.
+    probe_comp : int
+        Compartment of the fluid that the earth-fixed surface probes see (-1: all fluid).
+    force_scale : array or None
+        Factor on the fluid force on walls facing each compartment (index = compartment id);
+        ones if None (a cargo of another density, :mod:`sph.cases.ship`).
     """
 
     particles: Particles
@@ -48,8 +66,14 @@ class CaseSetup:
     motions: list = field(default_factory=list)
     diagnostics: dict[str, Callable] = field(default_factory=dict)
     attrs: dict = field(default_factory=dict)
-    absorber: np.ndarray = field(default_factory=lambda: np.zeros(5))
+    absorber: np.ndarray = field(default_factory=lambda: np.zeros(6))
     still_level: float | None = None
+    bodies: list = field(default_factory=list)
+    events: list = field(default_factory=list)
+    extra_probes: dict[str, tuple] = field(default_factory=dict)
+    opening: Any = None
+    probe_comp: int = -1
+    force_scale: np.ndarray | None = None
 
 
 def load_defaults(name: str) -> dict:

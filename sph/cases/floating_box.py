@@ -103,7 +103,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     mass = g.box_density * g.box_width * g.box_height
     inertia = g.box_inertia or mass * (g.box_width**2 + g.box_height**2) / 12.0
     flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)
-    box_body = RigidBody(mass, inertia, cog, g.dofs, cfg.fluid.gravity)
+    box_body = RigidBody(mass, inertia, cog, g.dofs, cfg.fluid.gravity,
+                         segments=[(2, 1.0, 0.0)])
     swing = g.tank_height * math.sin(min(4.0 * flap.theta0, 0.5)) + dx
     bounds = (-t - swing, g.tank_length + t, -t, g.tank_height + g.depth)
     k = wavenumber(g.wavemaker.omega, g.depth, cfg.fluid.gravity)
@@ -112,7 +113,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  box_mass=mass, box_inertia=inertia, draught=draught,
                  heave_offset=g.heave_offset, theta0=flap.theta0, omega=g.wavemaker.omega,
                  flap_file=g.wavemaker.file or "")
-    return CaseSetup(parts, bounds, g.depth, motions=[flap, box_body], attrs=attrs,
+    return CaseSetup(parts, bounds, g.depth, motions=[flap, box_body], bodies=[box_body],
+                     attrs=attrs,
                      diagnostics={"flap_angle": lambda p, time: math.degrees(
                          flap.angle(time)[0])},
                      absorber=absorber_params(g.absorber, g.wavemaker.omega / k, dx),

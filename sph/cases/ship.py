@@ -1,0 +1,413 @@
+"""The paper's ship in beam seas (Cao et al. 2019, Sec. IV): strip segments, cargo, damage.
+
+Strip theory (DESIGN §2-3): the ship of three equal cabins is simulated as 2-D segments, each
+its own wave tank with the same flap wavemaker, all carrying one rigid body (sway, heave,
+roll). By symmetry two segments suffice: an intact cabin standing for two cabins' length
+(weight 2/3, cargo at fill ratio eta) and the damaged middle cabin (weight 1/3, empty until
+the side opening appears at ``t1``). The segments' tanks lie side by side along x, ``pitch``
+metres apart, and their compartments are numbered ``2 s`` (sea) and ``2 s + 1`` (cabin).
+
+The ship's mass is the displacement at draught d; the cargo's mass is taken from the hull's
+own (DESIGN §3), whose centre of gravity height ``kg`` and radius of gyration ``gyradius``
+are case values. A cargo lighter than the sea water (``cargo_density``) is simulated as
+water whose force on the hull is scaled by ``cargo_density / rho0`` (in a single liquid
+the flow does not depend on its density).
+
+Cases: ``damaged_ship`` (the Table I runs) and ``ship_decay`` (one intact segment in still
+water, released with a heel or a heave offset).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..absorber import AbsorberConfig, absorber_params
+from ..bodies import DofConfig, RigidBody, Shifted
+from ..config import CaseConfig, ConfigError, spec
+from ..damage import OP_SIZE, DamageOpening, fluid_volume
+from ..geometry import lattice, n_wall_layers
+from ..hull import (
+    HullConfig,
+    cabin_area,
+    hydrostatics,
+    mid_shape,
+    outline_points,
+    sdf,
+    shape,
+    shell_particles,
+    submerged,
+)
+from ..kernels import kernel_params
+from ..probes import surface_heights
+from ..wavemaker import FlapConfig, FlapMotion, wavenumber
+from .base import (
+    CaseSetup,
+    check_absorber_fits,
+    check_probes_inside,
+    flap_tank_lattice,
+    load_defaults,
+    make_particles,
+    support,
+)
+
+log = logging.getLogger(__name__)
+
+SIDES = {"back": 1.0, "head": -1.0}
+
+
+@dataclass(frozen=True)
+class DamageConfig:
+    """The side opening of the middle cabin."""
+
+    opening: float = spec(10 / 21, lo=0.0, hi=1.0, doc="delta_bar = delta / d (0: intact)")
+    side: str = spec("back", choices=tuple(SIDES),
+                     doc="back: faces +x, away from the wavemaker; head: faces the waves")
+    time_periods: float = spec(3.18, lo=0.0, hi=1.0e4, doc="t1 in wave periods 2 pi / omega")
+
+
+@dataclass(frozen=True)
+class Geometry:
+    depth: float = spec(30.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth H")
+    tank_length: float = spec(150.0, lo=0.0, lo_open=True, hi=1.0e5, unit="m")
+    tank_height: float = spec(40.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    ship_x: float = spec(60.0, lo=0.0, hi=1.0e5, unit="m", doc="x of the ship's centre line")
+    hull: HullConfig = field(default_factory=HullConfig)
+    fill: float = spec(0.0, lo=0.0, hi=1.0, hi_open=True,
+                       doc="cargo fill ratio eta = h_w / D of the intact cabins")
+    cargo_density: float = spec(1000.0, lo=1.0, hi=1.0e5, unit="kg/m3")
+    intact_cabins: int = spec(2, lo=1, hi=100, doc="cabins the intact segment stands for")
+    damaged_cabins: int = spec(1, lo=0, hi=100, doc="cabins the damaged segment stands for "
+                               "(0: simulate the intact segment only)")
+    damage: DamageConfig = field(default_factory=DamageConfig)
+    heel: float = spec(0.0, lo=-30.0, hi=30.0, unit="degree",
+                       doc="initial heel, positive towards +x (free decay)")
+    heave_offset: float = spec(0.0, lo=-1.0e3, hi=1.0e3, unit="m",
+                               doc="initial displacement from the hydrostatic position")
+    dofs: DofConfig = field(default_factory=DofConfig)
+    wavemaker: FlapConfig = field(default_factory=FlapConfig)
+    absorber: AbsorberConfig = field(default_factory=AbsorberConfig)
+
+
+# ------------------------------------------------------------------------------ checks
+def _segments(g) -> list[dict]:
+    """The simulated segments: weight, cargo, damage."""
+    total = g.intact_cabins + g.damaged_cabins
+    segs = [dict(name="intact", weight=g.intact_cabins / total, cargo=g.fill > 0.0,
+                 damaged=False)]
+    if g.damaged_cabins:
+        segs.append(dict(name="damaged", weight=g.damaged_cabins / total, cargo=False,
+                         damaged=g.damage.opening > 0.0))
+    return segs
+
+
+def _masses(cfg: CaseConfig, cargo_area: float) -> dict:
+    g = cfg.geometry
+    hs = hydrostatics(g.hull, cfg.fluid.rho0, cfg.fluid.gravity)
+    w_intact = _segments(g)[0]["weight"]
+    cargo = g.cargo_density * cargo_area * w_intact  # per unit length of ship
+    return dict(displacement=hs["mass"], cargo=cargo, hull=hs["mass"] - cargo, gm=hs["gm"])
+
+
+def cargo_area(hull: HullConfig, fill: float) -> float:
+    """Cross-section area of cargo at fill ratio ``fill`` (level ``fill D`` above the cabin
+    floor), m2."""
+    if fill <= 0.0:
+        return 0.0
+    return submerged(hull, hull.plating + fill * hull.depth, hull.plating)[0]
+
+
+def check(cfg: CaseConfig) -> None:
+    g, dx = cfg.geometry, cfg.numerics.dx
+    hull = g.hull
+    if g.depth >= g.tank_height:
+        raise ConfigError("geometry.depth", f"must be in (0, geometry.tank_height = "
+                          f"{g.tank_height:g}) m; got {g.depth:g}")
+    deck = g.depth - hull.draught + hull.depth + abs(g.heave_offset)
+    if deck >= g.tank_height:
+        raise ConfigError("geometry.tank_height", f"must exceed the deck height "
+                          f"{deck:g} m (depth - draught + hull depth); got {g.tank_height:g}")
+    if hull.draught >= g.depth:
+        raise ConfigError("geometry.hull.draught", f"must be in (0, geometry.depth = "
+                          f"{g.depth:g}) m; got {hull.draught:g}")
+    half = 0.5 * hull.breadth
+    lo, hi = half + 2.0 * hull.breadth / 16.0 + 4 * dx, g.tank_length - half - 4 * dx
+    if g.absorber.enabled:
+        hi = min(hi, g.absorber.start - half)
+    if not lo <= g.ship_x <= hi:
+        raise ConfigError("geometry.ship_x", f"must be in [{lo:g}, {hi:g}] m so that the "
+                          f"ship lies inside the tank, clear of the flap and of the "
+                          f"absorbing zone; got {g.ship_x:g}")
+    if hull.plating >= dx:
+        log.info("plating %.3g m is at least one particle spacing; it is resolved as thin "
+                 "walls all the same", hull.plating)
+    opening = g.damage.opening * hull.draught
+    if g.damage.opening > 0.0 and g.damaged_cabins:
+        top = hull.plating + opening
+        if opening > hull.depth - 2 * hull.plating:
+            raise ConfigError("geometry.damage.opening", f"delta = opening * d = {opening:g} "
+                              f"m is taller than the cabin ({hull.depth - 2 * hull.plating:g} "
+                              f"m); allowed (0, {(hull.draught - hull.plating) / hull.draught:.4g}]")
+        if top >= hull.draught:
+            raise ConfigError("geometry.damage.opening", f"the opening's top edge ({top:g} m "
+                              f"above the keel) is above the waterline (draught "
+                              f"{hull.draught:g} m); allowed (0, "
+                              f"{(hull.draught - hull.plating) / hull.draught:.4g})")
+        if opening < dx:
+            raise ConfigError("geometry.damage.opening", f"delta = {opening:g} m is narrower "
+                              f"than one particle spacing (numerics.dx = {dx:g} m); use "
+                              f"opening >= {dx / hull.draught:.4g} or a smaller dx")
+        if opening < 3 * dx:
+            log.warning("the damage opening (%.3g m) spans only %.1f particle spacings: the "
+                        "inflow is under-resolved (3 or more recommended)", opening,
+                        opening / dx)
+    if g.fill > 0.0 and g.fill * hull.depth < dx:
+        raise ConfigError("geometry.fill", f"cargo height fill * D = {g.fill * hull.depth:g} m "
+                          f"is below one particle spacing ({dx:g} m); use 0 or a larger fill")
+    if g.fill * hull.depth >= hull.depth - 2 * hull.plating:
+        raise ConfigError("geometry.fill", f"must leave room below the deck; got {g.fill:g}")
+    m = _masses(cfg, cargo_area(hull, g.fill))
+    if m["hull"] <= 0.05 * m["displacement"]:
+        raise ConfigError("geometry.fill", f"the cargo ({m['cargo']:.4g} kg/m per unit ship "
+                          f"length at fill {g.fill:g}, density {g.cargo_density:g}) leaves "
+                          f"the hull less than 5 % of the displacement "
+                          f"({m['displacement']:.4g} kg/m) at draught {hull.draught:g} m; "
+                          f"lower geometry.fill or geometry.cargo_density")
+    check_absorber_fits(g.absorber, g.tank_length)
+    check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
+
+
+# ------------------------------------------------------------------------------ set-up
+def _pose(g, x_offset: float):
+    """Initial centre of gravity (earth) and angle (counter-clockwise) of a segment."""
+    hull = g.hull
+    cog = np.array([g.ship_x + x_offset, g.depth - hull.draught + hull.kg + g.heave_offset])
+    return cog, -math.radians(g.heel)
+
+
+def _to_earth(uw, kg, cog, theta):
+    """Keel frame -> (body frame relative to the cog, earth)."""
+    body = np.column_stack([uw[:, 0], uw[:, 1] - kg])
+    ct, st = math.cos(theta), math.sin(theta)
+    earth = np.column_stack([cog[0] + ct * body[:, 0] - st * body[:, 1],
+                             cog[1] + st * body[:, 0] + ct * body[:, 1]])
+    return body, earth
+
+
+def _to_keel(xz, kg, cog, theta):
+    ct, st = math.cos(theta), math.sin(theta)
+    rx, rz = xz[:, 0] - cog[0], xz[:, 1] - cog[1]
+    return ct * rx + st * rz, -st * rx + ct * rz + kg
+
+
+def _opening_pids(hull, shell_uw, side, z0, z1, pids):
+    """Wall particles whose nearest mid-surface point lies in the opening."""
+    from scipy.spatial import cKDTree
+
+    mid = outline_points(mid_shape(hull), 0.01 * hull.plating + 1e-3)
+    in_open = (side * mid[:, 0] > 0.0) & (mid[:, 1] >= z0) & (mid[:, 1] <= z1)
+    _, nearest = cKDTree(mid).query(shell_uw)
+    return pids[in_open[nearest]]
+
+
+def _vsdf(u, w, s):
+    return np.array([sdf(a, b, s) for a, b in zip(u, w, strict=True)])
+
+
+def setup(cfg: CaseConfig) -> CaseSetup:
+    g, dx = cfg.geometry, cfg.numerics.dx
+    hull, rho0 = g.hull, cfg.fluid.rho0
+    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    t = layers * dx
+    segs = _segments(g)
+    n_seg = len(segs)
+    pitch = g.tank_length + 2 * t + support(cfg) + 2 * dx
+    flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)
+    omega = g.wavemaker.omega
+    period = 2.0 * math.pi / omega
+    outer, inner_s = shape(hull, 0.0), shape(hull, hull.plating)
+    side = SIDES[g.damage.side]
+    z0 = hull.plating
+    z1 = hull.plating + g.damage.opening * hull.draught
+    shell_uw, shell_inner = shell_particles(hull, dx, layers)
+
+    fluid_xz, fluid_comp, fluid_surf = [], [], []
+    wall_xz, wall_body_xz, wall_group, wall_comp, wall_tag = [], [], [], [], []
+    cargo_masses = []
+    for s, seg in enumerate(segs):
+        x_off = s * pitch
+        cog, theta = _pose(g, x_off)
+        pts, inside, wall_mask, group = flap_tank_lattice(dx, layers, g.tank_length,
+                                                          g.tank_height)
+        pts = pts + np.array([x_off, 0.0])
+        u, w = _to_keel(pts, hull.kg, cog, theta)
+        near = inside & (pts[:, 1] < g.depth) & (np.abs(u) < hull.breadth) & (
+            w < hull.depth + 2 * dx)
+        clear = np.ones(len(pts), bool)
+        clear[near] = _vsdf(u[near], w[near], outer) >= 0.5 * dx * 0.999
+        sea = inside & (pts[:, 1] < g.depth) & clear
+        fluid_xz.append(pts[sea])
+        fluid_comp.append(np.full(sea.sum(), 2 * s, np.int32))
+        fluid_surf.append(np.full(sea.sum(), g.depth))
+        walls = pts[wall_mask]
+        wall_xz.append(walls)
+        wall_body_xz.append(walls - np.array([x_off, 0.0]) * (group[:, None] > 0))
+        wall_group.append(np.where(group > 0, 1 + s, 0).astype(np.int32))
+        wall_comp.append(np.full(len(walls), 2 * s, np.int32))
+        wall_tag.append(np.zeros(len(walls), np.int32))
+        # hull plating: outer-face layers face the sea, inner-face layers the cabin
+        body_xz, earth = _to_earth(shell_uw, hull.kg, cog, theta)
+        wall_xz.append(earth)
+        wall_body_xz.append(body_xz)
+        wall_group.append(np.full(len(earth), 1 + n_seg + s, np.int32))
+        wall_comp.append(np.where(shell_inner, 2 * s + 1, 2 * s).astype(np.int32))
+        wall_tag.append(np.full(len(earth), 1 + s, np.int32))  # hull of segment s (local tag)
+        cargo_n = 0
+        if seg["cargo"]:
+            level = hull.plating + g.fill * hull.depth
+            cl = lattice(-0.5 * hull.breadth, 0.5 * hull.breadth, hull.plating, level, dx)
+            keep = _vsdf(cl[:, 0], cl[:, 1], inner_s) <= -0.5 * dx * 0.999
+            cl = cl[keep]
+            _, earth = _to_earth(cl, hull.kg, cog, theta)
+            fluid_xz.append(earth)
+            fluid_comp.append(np.full(len(cl), 2 * s + 1, np.int32))
+            fluid_surf.append(earth[:, 1] + (level - cl[:, 1]) * math.cos(theta))
+            cargo_n = len(cl)
+        cargo_masses.append(cargo_n)
+
+    fluid_xz = np.concatenate(fluid_xz)
+    wall_xz = np.concatenate(wall_xz)
+    wall_group = np.concatenate(wall_group)
+    wall_tag = np.concatenate(wall_tag)
+    parts = make_particles(cfg, fluid_xz, wall_xz, np.concatenate(fluid_surf), g.depth,
+                           wall_body=wall_group, wall_body_xz=np.concatenate(wall_body_xz))
+    nf = len(fluid_xz)
+    parts.comp[:nf] = np.concatenate(fluid_comp)
+    parts.comp[nf:] = np.concatenate(wall_comp)
+
+    # cargo actually placed (its particle masses) and the hull's share of the displacement
+    cargo_area_sph = 0.0
+    if segs[0]["cargo"]:
+        sel = parts.comp[:nf] == 1
+        cargo_area_sph = float(np.sum(parts.m[:nf][sel] / parts.rho[:nf][sel]))
+    m = _masses(cfg, cargo_area_sph)
+    inertia = m["hull"] * hull.gyradius**2
+    cog0, theta0 = _pose(g, 0.0)
+    body = RigidBody(m["hull"], inertia, cog0, g.dofs, cfg.fluid.gravity,
+                     segments=[(1 + n_seg + s, seg["weight"], s * pitch)
+                               for s, seg in enumerate(segs)])
+    body.q[2] = theta0
+    motions = [Shifted(flap, s * pitch) for s in range(n_seg)]
+    motions += [body.segment_motion(s) for s in range(n_seg)]
+
+    # force of the cargo on the hull scaled to its own density
+    force_scale = np.ones(2 * n_seg)
+    if segs[0]["cargo"]:
+        force_scale[1] = g.cargo_density / rho0
+
+    # damage opening in the damaged segment
+    opening = None
+    events = []
+    d_seg = next((s for s, seg in enumerate(segs) if seg["damaged"]), None)
+    if d_seg is not None:
+        pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
+        shell_of_seg = shell_uw  # same layout in every segment
+        remove = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
+        op = np.zeros(OP_SIZE)
+        op[1:7] = (2 * d_seg, 2 * d_seg + 1, 1 + n_seg + d_seg, side, z0, z1)
+        op[7:12] = mid_shape(hull)
+        op[12] = hull.kg
+        op[13] = support(cfg)
+        opening = DamageOpening(g.damage.time_periods * period, op, remove)
+        events.append(opening)
+
+    # diagnostics: flood volume and ratio; body-fixed probes W1 (cargo cabin), W2 (damaged)
+    v_cabin = cabin_area(hull)
+    diagnostics = {}
+    if n_seg > 1:
+        c_in = 2 * (n_seg - 1) + 1
+
+        def flood_volume(p, time):
+            return fluid_volume(p.m, p.rho, p.kind, p.comp, c_in)
+
+        diagnostics["flood_volume"] = flood_volume
+        diagnostics["flood_ratio"] = lambda p, time: flood_volume(p, time) / v_cabin
+    kp = kernel_params(cfg.numerics.kernel, cfg.numerics.h)
+    u_probe = side * (0.5 * hull.breadth - hull.plating - hull.breadth / 160.0)
+
+    def cabin_probe(s):
+        def height(p):
+            kin = motions[n_seg + s].kinematics()
+            sel = (p.kind == 0) & (p.comp == 2 * s + 1)
+            if not sel.any():
+                return 0.0
+            xz = np.column_stack([p.x[sel], p.z[sel]])
+            u, w = _to_keel(xz, hull.kg, kin[:2], kin[2])
+            out = surface_heights(u, w, p.m[sel], p.rho[sel], p.kind[sel], p.comp[sel], -1,
+                                  np.array([u_probe]), kp, hull.plating, 0.1 * dx)[0]
+            return 0.0 if math.isnan(out) else float(out - hull.plating)
+        return height
+
+    extra = {"W1": (cabin_probe(0), g.fill * hull.depth if segs[0]["cargo"] else 0.0)}
+    if n_seg > 1:
+        extra["W2"] = (cabin_probe(n_seg - 1), 0.0)
+
+    swing = g.tank_height * math.sin(min(4.0 * flap.theta0, 0.5)) + dx
+    bounds = (-t - swing, (n_seg - 1) * pitch + g.tank_length + t, -t,
+              g.tank_height + g.depth)
+    k = wavenumber(omega, g.depth, cfg.fluid.gravity)
+    hs = hydrostatics(hull, rho0, cfg.fluid.gravity)
+    attrs = dict(depth=g.depth, tank_length=g.tank_length, ship_x=g.ship_x,
+                 breadth=hull.breadth, hull_depth=hull.depth, draught=hull.draught,
+                 bilge_radius=hull.bilge_radius, plating=hull.plating, kg=hull.kg,
+                 gyradius=hull.gyradius, gm=hs["gm"], kb=hs["kb"], bm=hs["bm"],
+                 opening=g.damage.opening if g.damaged_cabins else 0.0,
+                 side=g.damage.side, fill=g.fill, cargo_density=g.cargo_density,
+                 damage_time=g.damage.time_periods * period, wave_period=period,
+                 theta0=flap.theta0, omega=omega, wave_amplitude=_amplitude(flap, g, cfg),
+                 displacement=m["displacement"], hull_mass=m["hull"], cargo_mass=m["cargo"],
+                 roll_inertia=inertia, cabin_area=v_cabin, segments=n_seg,
+                 segment_weights=" ".join(f"{seg['weight']:.6g}" for seg in segs),
+                 segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
+                 removed_wall_particles=len(opening.remove_pids) if opening else 0)
+    setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
+                       diagnostics=diagnostics, attrs=attrs,
+                       absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch),
+                       still_level=g.depth, extra_probes=extra, opening=opening,
+                       probe_comp=0, force_scale=force_scale)
+    return setup_
+
+
+def _amplitude(flap, g, cfg) -> float:
+    from ..wavemaker import flap_wave_amplitude
+
+    if g.wavemaker.file:
+        return float("nan")
+    return flap_wave_amplitude(flap.theta0, g.wavemaker.omega, g.depth, cfg.fluid.gravity)
+
+
+class DamagedShip:
+    """Damaged ship in beam seas, case ``damaged_ship`` (Cao et al. 2019, Table I)."""
+
+    Geometry = Geometry
+    check = staticmethod(check)
+    setup = staticmethod(setup)
+
+    @staticmethod
+    def defaults() -> dict:
+        return load_defaults("damaged_ship")
+
+
+class ShipDecay:
+    """Free heave or roll decay of the intact ship in still water, case ``ship_decay``."""
+
+    Geometry = Geometry
+    check = staticmethod(check)
+    setup = staticmethod(setup)
+
+    @staticmethod
+    def defaults() -> dict:
+        return load_defaults("ship_decay")

@@ -1,0 +1,151 @@
+r"""Sudden side damage of a cabin: the opening, the pair rule through it, and flooding.
+
+At ``t1`` the wall particles of the opening (the damaged cabin's side, from the cabin
+bottom up to ``delta = delta_bar d``) are removed (Cao et al. 2019, Sec. IV A). From then on
+two fluid particles of the sea and of the damaged cabin interact when the straight segment
+between them crosses the plating's mid-surface inside the opening (DESIGN §2), and a fluid
+particle that passes through the opening changes compartment when it crosses the
+mid-surface. Every other pair across the plating stays separated.
+
+The opening travels to the numba kernels as a float array ``op`` (all zeros: no opening):
+
+====  =====================================================================
+0     1 when the opening is open
+1, 2  compartment ids of the sea and of the damaged cabin
+3     wall group of the damaged hull (its row of ``kin``)
+4     side: +1 the opening faces +x ("back"), -1 it faces -x ("head")
+5, 6  keel-frame heights ``w`` of the opening's lower and upper edges
+7-11  mid-surface outline (:func:`sph.hull.shape`)
+12    height of the reference point (centre of gravity) above the keel
+13    reach: particles within this distance of the mid-surface may change compartment
+====  =====================================================================
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+from numba import prange
+
+from .hull import sdf
+from .jit import JIT, JIT_PARALLEL, njit
+
+log = logging.getLogger(__name__)
+
+OP_SIZE = 14
+
+
+def no_opening() -> np.ndarray:
+    return np.zeros(OP_SIZE)
+
+
+@njit(**JIT)
+def keel_frame(x, z, op, kin):
+    """Earth ``(x, z)`` -> keel frame ``(u, w)`` of the damaged hull."""
+    g = int(op[3])
+    ct = math.cos(kin[g, 2])
+    st = math.sin(kin[g, 2])
+    rx = x - kin[g, 0]
+    rz = z - kin[g, 1]
+    return ct * rx + st * rz, -st * rx + ct * rz + op[12]
+
+
+@njit(**JIT)
+def passable(xi, zi, xj, zj, ci, cj, op, kin):
+    """True when fluid particles of different compartments see each other through the
+    open opening (call only when ``ci != cj``)."""
+    if op[0] == 0.0:
+        return False
+    a = int(op[1])
+    b = int(op[2])
+    if not ((ci == a and cj == b) or (ci == b and cj == a)):
+        return False
+    s = op[7:12]
+    ui, wi = keel_frame(xi, zi, op, kin)
+    uj, wj = keel_frame(xj, zj, op, kin)
+    di = sdf(ui, wi, s)
+    dj = sdf(uj, wj, s)
+    if di * dj > 0.0:
+        return False
+    f = di / (di - dj) if di != dj else 0.5
+    uc = ui + f * (uj - ui)
+    wc = wi + f * (wj - wi)
+    return op[4] * uc > 0.0 and op[5] <= wc <= op[6]
+
+
+@njit(**JIT_PARALLEL)
+def reclassify(x, z, kind, comp, op, kin):
+    """Fluid particles in the opening take the compartment of their side of the
+    mid-surface (sea outside, cabin inside)."""
+    a = int(op[1])
+    b = int(op[2])
+    s = op[7:12]
+    reach = op[13]
+    for i in prange(x.shape[0]):
+        if kind[i] != 0 or (comp[i] != a and comp[i] != b):
+            continue
+        u, w = keel_frame(x[i], z[i], op, kin)
+        if op[4] * u <= 0.0 or w < op[5] or w > op[6]:
+            continue
+        d = sdf(u, w, s)
+        if abs(d) < reach:
+            comp[i] = b if d < 0.0 else a
+
+
+class DamageOpening:
+    """The opening event of one damaged hull.
+
+    Parameters
+    ----------
+    time : float
+        ``t1`` (s); ``math.inf`` for an intact ship.
+    params : array
+        ``op`` (see the module docstring) with ``op[0] = 0``.
+    remove_pids : array of int
+        Original indices (``pid``) of the wall particles that the damage removes.
+    """
+
+    def __init__(self, time: float, params: np.ndarray, remove_pids: np.ndarray):
+        self.time = float(time)
+        self.params = np.asarray(params, dtype=np.float64)
+        self.remove_pids = np.asarray(remove_pids, dtype=np.int64)
+        self.is_open = False
+
+    def apply(self, sim) -> None:
+        """Open at ``t1`` (once), then keep the compartments of the particles in the
+        opening up to date (called at every evaluation, after the walls are placed)."""
+        if not self.is_open and sim.t >= self.time - 1e-12 * max(1.0, self.time):
+            p = sim.parts
+            keep = ~np.isin(p.pid, self.remove_pids)
+            sim.parts = p.take(keep)
+            sim._allocate_work()
+            self.is_open = True
+            self.params[0] = 1.0
+            log.info("t = %.4g s (step %d): damage opening appears, %d wall particles removed",
+                     sim.t, sim.step, int((~keep).sum()))
+        if self.is_open:
+            p = sim.parts
+            reclassify(p.x, p.z, p.kind, p.comp, self.params, sim.kin)
+
+    def get_state(self) -> dict:
+        return {"is_open": np.array(int(self.is_open))}
+
+    def set_state(self, state: dict) -> None:
+        self.is_open = bool(int(state["is_open"]))
+        self.params[0] = 1.0 if self.is_open else 0.0
+
+
+def fluid_volume(m, rho, kind, comp, c) -> float:
+    """Volume (m2 per unit length) of the fluid in compartment ``c``."""
+    sel = (kind == 0) & (comp == c)
+    return float(np.sum(m[sel] / rho[sel]))
+
+
+def orifice_rate(depth_low: float, depth_high: float, gravity: float, cd: float = 0.6):
+    r"""Initial inflow (m2/s per unit length) through a side opening spanning the depths
+    ``depth_high < depth_low`` below the outside surface into an empty cabin:
+    :math:`q = C_d\int\sqrt{2 g y}\,dy = C_d\sqrt{2g}\,\tfrac23\,(y_1^{3/2} - y_0^{3/2})`."""
+    return cd * math.sqrt(2.0 * gravity) * 2.0 / 3.0 * (
+        max(depth_low, 0.0) ** 1.5 - max(depth_high, 0.0) ** 1.5)

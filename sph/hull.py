@@ -1,0 +1,230 @@
+r"""Thin-walled ship section: geometry, wall particles, compartments and hydrostatics.
+
+The section of the paper's ship (Cao et al. 2019, Sec. IV A) is U-shaped: flat bottom,
+rounded bilges of radius ``R``, vertical sides and a closed flat deck, with plating of
+thickness ``t`` much thinner than the kernel support. Coordinates here are the *keel frame*
+``(u, w)``: ``u`` across the ship from the centre line, ``w`` up from the outer bottom.
+
+Thin walls (DESIGN §2): each face of the plating gets its own layers of dummy particles.
+The outer face's layers run *into* the hull and belong to the sea compartment; the inner
+face's layers run *out* of it and belong to the cabin. The two sets overlap in space with the
+other side's fluid, and since a pair of particles interacts only when their compartments
+match (or, for two fluid particles, when the segment between them passes through an open
+damage opening: :mod:`sph.damage`), nothing leaks through the plating at any resolution.
+
+The *mid-surface* (the plating's middle line) separates the compartments: its signed
+distance :func:`mid_sdf` is negative inside the cabin.
+
+Hydrostatics of the rigid section (per unit length): displaced area, centre of buoyancy,
+metacentric radius, and the lost-buoyancy equilibrium of a ship with one cabin open to the
+sea (:func:`flooded_draught`), used to check the flooding runs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .config import spec
+from .jit import JIT, njit
+
+
+@dataclass(frozen=True)
+class HullConfig:
+    """Main dimensions of the ship section and its mass properties."""
+
+    breadth: float = spec(16.0, lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="B")
+    depth: float = spec(8.5, lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="D, keel to deck")
+    draught: float = spec(4.2, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
+                          doc="d, before damage (the hull mass follows from it)")
+    bilge_radius: float = spec(1.5, lo=0.0, hi=1.0e3, unit="m", doc="outer bilge radius")
+    plating: float = spec(0.1, lo=0.0, lo_open=True, hi=1.0e2, unit="m",
+                          doc="plating thickness (bottom, sides and deck)")
+    kg: float = spec(4.4, lo=0.0, hi=1.0e3, unit="m",
+                     doc="height of the centre of gravity above the keel")
+    gyradius: float = spec(5.9, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
+                           doc="roll radius of gyration about the centre of gravity")
+
+    def check(self, key):
+        from .config import ConfigError
+
+        if self.draught >= self.depth:
+            raise ConfigError(f"{key}.draught", f"must be in (0, {key}.depth = "
+                              f"{self.depth:g}) m; got {self.draught:g}")
+        half = 0.5 * self.breadth
+        if self.bilge_radius >= min(half, self.depth) - self.plating:
+            raise ConfigError(f"{key}.bilge_radius", f"must be in [0, "
+                              f"{min(half, self.depth) - self.plating:g}) m (less than half "
+                              f"the breadth and the depth, minus the plating); got "
+                              f"{self.bilge_radius:g}")
+        if self.plating >= 0.25 * min(self.breadth, self.depth):
+            raise ConfigError(f"{key}.plating", f"must be in (0, "
+                              f"{0.25 * min(self.breadth, self.depth):g}) m; got "
+                              f"{self.plating:g}")
+        if self.kg >= self.depth:
+            raise ConfigError(f"{key}.kg", f"must be in [0, {key}.depth = {self.depth:g}) m; "
+                              f"got {self.kg:g}")
+
+
+def shape(hull: HullConfig, offset: float) -> np.ndarray:
+    """The hull outline moved ``offset`` inwards (negative: outwards) as the parameters
+    ``[half_width, w_bottom, w_top, bottom_radius, top_radius]``."""
+    return np.array([0.5 * hull.breadth - offset, offset, hull.depth - offset,
+                     max(hull.bilge_radius - offset, 0.0), max(-offset, 0.0)])
+
+
+def mid_shape(hull: HullConfig) -> np.ndarray:
+    """The plating's middle line (separates sea and cabin)."""
+    return shape(hull, 0.5 * hull.plating)
+
+
+@njit(**JIT)
+def sdf(u, w, s):
+    """Signed distance from ``(u, w)`` to the outline ``s`` (:func:`shape`); < 0 inside.
+
+    A rectangle with rounded bottom corners (radius ``s[3]``) and rounded top corners
+    (radius ``s[4]``)."""
+    cw = 0.5 * (s[1] + s[2])
+    hh = 0.5 * (s[2] - s[1])
+    r = s[3] if w < cw else s[4]
+    qx = abs(u) - s[0] + r
+    qz = abs(w - cw) - hh + r
+    ox = max(qx, 0.0)
+    oz = max(qz, 0.0)
+    return math.sqrt(ox * ox + oz * oz) + min(max(qx, qz), 0.0) - r
+
+
+def outline_points(s: np.ndarray, spacing: float, vertices: bool = False) -> np.ndarray:
+    """Points along the outline ``s`` at (about) ``spacing`` apart, as ``(n, 2)`` (u, w).
+
+    Evenly spread over the whole outline (particles), or, with ``vertices``, starting at
+    every corner of the straight and curved pieces (a polygon for areas)."""
+    hw, wb, wt, rb, rt = (float(v) for v in s)
+    pieces = []  # (length, function of the fraction in [0, 1] -> (u, w))
+
+    def seg(a, b):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        return (float(np.hypot(*(b - a))), lambda f, a=a, b=b: a + np.outer(f, b - a))
+
+    def arc(cu, cw, r, a0):
+        return (0.5 * math.pi * r, lambda f, cu=cu, cw=cw, r=r, a0=a0: np.column_stack(
+            [cu + r * np.cos(a0 + 0.5 * math.pi * f), cw + r * np.sin(a0 + 0.5 * math.pi * f)]))
+
+    pieces += [seg((-hw + rb, wb), (hw - rb, wb)), arc(hw - rb, wb + rb, rb, -0.5 * math.pi),
+               seg((hw, wb + rb), (hw, wt - rt)), arc(hw - rt, wt - rt, rt, 0.0),
+               seg((hw - rt, wt), (-hw + rt, wt)), arc(-hw + rt, wt - rt, rt, 0.5 * math.pi),
+               seg((-hw, wt - rt), (-hw, wb + rb)), arc(-hw + rb, wb + rb, rb, math.pi)]
+    lengths = np.array([p[0] for p in pieces])
+    total = lengths.sum()
+    if vertices:  # every piece from its start point: corners exact (for areas)
+        return np.concatenate([fn(np.arange(max(int(np.ceil(length / spacing)), 1))
+                                  / max(int(np.ceil(length / spacing)), 1))
+                               for length, fn in pieces if length > 0])
+    n = max(int(round(total / spacing)), 8)
+    s_along = (np.arange(n) + 0.5) * total / n
+    edges = np.concatenate([[0.0], np.cumsum(lengths)])
+    out = np.empty((n, 2))
+    for k, (length, fn) in enumerate(pieces):
+        sel = (s_along >= edges[k]) & (s_along < edges[k + 1])
+        if sel.any() and length > 0:
+            out[sel] = fn((s_along[sel] - edges[k]) / length)
+    return out
+
+
+def shell_particles(hull: HullConfig, dx: float, layers: int):
+    """Dummy particles of the plating in the keel frame.
+
+    Returns ``(points, inner)``: positions ``(n, 2)`` and a boolean per particle, True for
+    the inner face's layers (cabin compartment), False for the outer face's (sea)."""
+    t = hull.plating
+    pts, inner = [], []
+    for k in range(layers):
+        o = (k + 0.5) * dx
+        outer = outline_points(shape(hull, o), dx)
+        inside = outline_points(shape(hull, t - o), dx)
+        pts += [outer, inside]
+        inner += [np.zeros(len(outer), bool), np.ones(len(inside), bool)]
+    return np.concatenate(pts), np.concatenate(inner)
+
+
+# ---------------------------------------------------------------------------- areas
+def _polygon(s: np.ndarray, n: int = 4000) -> np.ndarray:
+    return outline_points(s, 2.0 * (s[0] + s[2] - s[1]) * 2.0 / n, vertices=True)
+
+
+def _clip_below(poly: np.ndarray, level: float) -> np.ndarray:
+    """Part of a closed polygon below ``w = level`` (Sutherland-Hodgman, one half-plane)."""
+    out = []
+    n = len(poly)
+    for k in range(n):
+        a, b = poly[k], poly[(k + 1) % n]
+        ina, inb = a[1] <= level, b[1] <= level
+        if ina:
+            out.append(a)
+        if ina != inb:
+            f = (level - a[1]) / (b[1] - a[1])
+            out.append(a + f * (b - a))
+    return np.array(out) if out else np.zeros((0, 2))
+
+
+def _area_centroid(poly: np.ndarray) -> tuple[float, float, float]:
+    if len(poly) < 3:
+        return 0.0, 0.0, 0.0
+    u, w = poly[:, 0], poly[:, 1]
+    u1, w1 = np.roll(u, -1), np.roll(w, -1)
+    cross = u * w1 - u1 * w
+    area = 0.5 * cross.sum()
+    if abs(area) < 1e-300:
+        return 0.0, 0.0, 0.0
+    cu = ((u + u1) * cross).sum() / (6.0 * area)
+    cw = ((w + w1) * cross).sum() / (6.0 * area)
+    return abs(area), cu, cw
+
+
+def submerged(hull: HullConfig, level: float, offset: float = 0.0):
+    """Area (m2) and centroid ``(u, w)`` of the outline moved ``offset`` inwards, below
+    ``w = level`` (upright section)."""
+    return _area_centroid(_clip_below(_polygon(shape(hull, offset)), level))
+
+
+def cabin_area(hull: HullConfig) -> float:
+    """V: the empty cabin's cross-section area (inside the plating), m2."""
+    return submerged(hull, hull.depth, hull.plating)[0]
+
+
+def hydrostatics(hull: HullConfig, rho0: float, gravity: float) -> dict:
+    """Upright intact section at draught d: displacement, KB, BM, GM, and the linear roll and
+    heave stiffness per unit length."""
+    area, _, kb = submerged(hull, hull.draught)
+    bm = hull.breadth**3 / 12.0 / area
+    gm = kb + bm - hull.kg
+    mass = rho0 * area
+    return dict(area=area, mass=mass, kb=kb, bm=bm, gm=gm,
+                roll_stiffness=mass * gravity * gm,
+                heave_stiffness=rho0 * gravity * hull.breadth)
+
+
+def flooded_draught(hull: HullConfig, damaged_weight: float) -> float:
+    """Equilibrium draught (lost-buoyancy method) when the cabins that make up the fraction
+    ``damaged_weight`` of the ship's length are open to the sea below the waterline.
+
+    The damaged cabins keep only the buoyancy of their plating; the others must carry the
+    whole mass ``rho0 A(d)``: ``A(d') - w_d A_in(d') = A(d)`` (symmetric section: no heel)."""
+    target = submerged(hull, hull.draught)[0]
+
+    def excess(d):
+        return (submerged(hull, d)[0] - damaged_weight * submerged(hull, d, hull.plating)[0]
+                - target)
+
+    lo, hi = hull.draught, hull.depth
+    if excess(hi) < 0.0:
+        return math.inf  # sinks: the intact cabins cannot carry the ship
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if excess(mid) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)

@@ -1,0 +1,169 @@
+"""Ship section geometry, hydrostatics, the pair rule through a damage opening, and the
+ship cases' input checks."""
+
+import logging
+import math
+
+import numpy as np
+import pytest
+
+from sph.config import ConfigError, build_case
+from sph.damage import OP_SIZE, orifice_rate, passable, reclassify
+from sph.hull import (
+    HullConfig,
+    cabin_area,
+    flooded_draught,
+    hydrostatics,
+    mid_shape,
+    sdf,
+    shape,
+    shell_particles,
+    submerged,
+)
+from sph.walls import fixed_kinematics
+
+HULL = HullConfig()
+
+
+def test_section_areas_match_closed_form():
+    b, d, r, t = HULL.breadth, HULL.depth, HULL.bilge_radius, HULL.plating
+    corners = (2.0 - math.pi / 2.0)  # two rounded bottom corners: 2 (1 - pi/4) R^2
+    assert submerged(HULL, d)[0] == pytest.approx(b * d - corners * r * r, rel=1e-5)
+    assert submerged(HULL, HULL.draught)[0] == pytest.approx(
+        b * HULL.draught - corners * r * r, rel=1e-5)
+    assert cabin_area(HULL) == pytest.approx(
+        (b - 2 * t) * (d - 2 * t) - corners * (r - t) ** 2, rel=1e-5)
+
+
+def test_box_hydrostatics_closed_form():
+    box = HullConfig(bilge_radius=0.0, kg=3.0)
+    hs = hydrostatics(box, 1000.0, 9.81)
+    b, d = box.breadth, box.draught
+    assert hs["kb"] == pytest.approx(d / 2, rel=1e-6)
+    assert hs["bm"] == pytest.approx(b * b / (12 * d), rel=1e-6)
+    assert hs["gm"] == pytest.approx(d / 2 + b * b / (12 * d) - 3.0, rel=1e-6)
+    # lost buoyancy, box section: B d' - w (B - 2t)(d' - t) = B d
+    w, t = 1 / 3, box.plating
+    expect = (b * d - w * (b - 2 * t) * t) / (b - w * (b - 2 * t))
+    assert flooded_draught(box, w) == pytest.approx(expect, rel=1e-6)
+    assert flooded_draught(box, 1.0) == math.inf  # every cabin open: it sinks
+
+
+def test_sdf_sign_and_distance():
+    s = shape(HULL, 0.0)
+    assert sdf(0.0, 4.0, s) == pytest.approx(-4.0)  # deepest inside point: 4 m to the bottom
+    assert sdf(9.0, 4.0, s) == pytest.approx(1.0)
+    assert sdf(0.0, -0.5, s) == pytest.approx(0.5)
+    # on the bilge: distance to the arc of radius R centred at (B/2 - R, R)
+    c = np.array([8.0 - 1.5, 1.5])
+    p = c + 2.0 * np.array([math.cos(-0.7), math.sin(-0.7)])
+    assert sdf(p[0], p[1], s) == pytest.approx(0.5, abs=1e-12)
+
+
+def test_shell_layers_lie_on_their_faces():
+    dx, layers = 0.4, 4
+    pts, inner = shell_particles(HULL, dx, layers)
+    d_out = np.array([sdf(u, w, shape(HULL, 0.0)) for u, w in pts])
+    d_in = np.array([sdf(u, w, shape(HULL, HULL.plating)) for u, w in pts])
+    # outer-face layers inside the outer surface, inner-face layers outside the inner one,
+    # each within `layers` spacings of its face
+    assert np.all(d_out[~inner] < 0) and np.all(d_out[~inner] > -layers * dx - 1e-9)
+    assert np.all(d_in[inner] > 0) and np.all(d_in[inner] < layers * dx + 1e-9)
+    # particle spacing along each layer close to dx
+    first = pts[~inner][: len(pts[~inner]) // layers]
+    gaps = np.hypot(*np.diff(first, axis=0).T)
+    assert np.median(gaps) == pytest.approx(dx, rel=0.05)
+
+
+def _opening(side=1.0, z1=2.1, open_=True):
+    op = np.zeros(OP_SIZE)
+    op[:7] = (1.0 if open_ else 0.0, 0, 1, 0, side, HULL.plating, z1)
+    op[7:12] = mid_shape(HULL)
+    op[12] = 0.0  # reference point at the keel
+    op[13] = 2.0
+    return op, fixed_kinematics(1)
+
+
+def test_pair_rule_through_the_opening():
+    op, kin = _opening()
+    # across the +x side inside the opening's height: sea (0) and cabin (1) see each other
+    assert passable(8.3, 1.5, 7.6, 1.5, 0, 1, op, kin)
+    assert passable(7.6, 1.5, 8.3, 1.5, 1, 0, op, kin)
+    # across the plating above the opening, across the other side, or the bottom: blocked
+    assert not passable(8.3, 3.0, 7.6, 3.0, 0, 1, op, kin)
+    assert not passable(-8.3, 1.5, -7.6, 1.5, 0, 1, op, kin)
+    assert not passable(2.0, -0.3, 2.0, 0.4, 0, 1, op, kin)
+    # both on the same side of the plating, or compartments that the opening does not join
+    assert not passable(8.3, 1.5, 8.9, 1.5, 0, 1, op, kin)
+    assert not passable(8.3, 1.5, 7.6, 1.5, 0, 3, op, kin)
+    # a closed opening joins nothing; a head-side opening faces -x
+    assert not passable(8.3, 1.5, 7.6, 1.5, 0, 1, *_opening(open_=False))
+    assert passable(-8.3, 1.5, -7.6, 1.5, 0, 1, *_opening(side=-1.0))
+
+
+def test_pair_rule_follows_the_body():
+    op, kin = _opening()
+    op[12] = 4.0  # reference point 4 m above the keel
+    kin[0, :3] = (100.0, 30.0, math.radians(10.0))  # moved and heeled 10 deg towards -x
+    ct, st = math.cos(kin[0, 2]), math.sin(kin[0, 2])
+
+    def earth(u, w):
+        return 100.0 + ct * u - st * (w - 4.0), 30.0 + st * u + ct * (w - 4.0)
+
+    assert passable(*earth(8.3, 1.5), *earth(7.6, 1.5), 0, 1, op, kin)
+    assert not passable(*earth(8.3, 3.0), *earth(7.6, 3.0), 0, 1, op, kin)
+
+
+def test_reclassify_moves_particles_that_crossed():
+    op, kin = _opening()
+    x = np.array([7.7, 8.3, 7.7, 8.3, 0.0])
+    z = np.array([1.5, 1.5, 3.5, 3.5, 1.5])
+    kind = np.zeros(5, np.int32)
+    comp = np.array([0, 1, 0, 1, 0], np.int32)  # first two on the wrong side of the opening
+    reclassify(x, z, kind, comp, op, kin)
+    # in the opening: compartment of the side; above it or far from it: unchanged
+    assert list(comp) == [1, 0, 0, 1, 0]
+
+
+def test_orifice_rate():
+    # a slot from the surface down to depth y: q = Cd sqrt(2g) 2/3 y^1.5
+    assert orifice_rate(2.0, 0.0, 9.81, 1.0) == pytest.approx(
+        math.sqrt(2 * 9.81) * 2 / 3 * 2.0**1.5)
+    assert orifice_rate(2.0, 2.0, 9.81) == 0.0
+
+
+# ------------------------------------------------------------------- input checks
+def _case(**geometry):
+    return {"case": "damaged_ship", "numerics": {"dx": 0.8}, "geometry": geometry}
+
+
+@pytest.mark.parametrize("geometry, key", [
+    ({"damage": {"opening": 0.99}}, "geometry.damage.opening"),  # top above the waterline
+    ({"hull": {"draught": 8.0}, "damage": {"opening": 1.0}}, "geometry.damage.opening"),
+    ({"damage": {"opening": 0.1}}, "geometry.damage.opening"),  # 0.42 m < dx = 0.8 m
+    ({"fill": 1.0}, "geometry.fill"),
+    ({"fill": -0.1}, "geometry.fill"),
+    ({"fill": 0.75}, "geometry.fill"),  # heavier than the displacement allows
+    ({"ship_x": 5.0}, "geometry.ship_x"),
+    ({"ship_x": 140.0}, "geometry.ship_x"),
+    ({"damage": {"side": "port"}}, "geometry.damage.side"),
+    ({"hull": {"draught": 9.0}}, "geometry.hull.draught"),
+    ({"hull": {"bilge_radius": 8.0}}, "geometry.hull.bilge_radius"),
+    ({"depth": 45.0}, "geometry.depth"),
+])
+def test_bad_ship_input_is_refused(geometry, key):
+    with pytest.raises(ConfigError) as err:
+        build_case(_case(**geometry))
+    assert err.value.key == key
+    assert key in str(err.value)
+
+
+def test_paper_fill_runs_with_a_lighter_cargo():
+    cfg = build_case(_case(fill=0.75, cargo_density=850.0))
+    assert cfg.geometry.fill == 0.75
+
+
+def test_narrow_opening_warns(caplog):
+    with caplog.at_level(logging.WARNING):
+        build_case(_case(damage={"opening": 0.4}))  # 1.68 m = 2.1 dx
+    assert any("particle spacings" in r.getMessage() for r in caplog.records)
