@@ -9,7 +9,8 @@ with :math:`\boldsymbol\beta_i = \mathbf{A}_i^{-1}(1, 0, 0)^T` and
 :math:`\mathbf{A}_i = \sum_j W_{ij}\tilde{\mathbf{A}}_{ij} V_j`,
 :math:`\tilde{\mathbf{A}}_{ij} = \mathbf{p}_{ij}\mathbf{p}_{ij}^T`, :math:`\mathbf{p}_{ij} =
 (1, x_i - x_j, z_i - z_j)`. The sum runs over fluid and wall particles of the same
-compartment (and fluid particles seen through an open damage opening, :mod:`sph.damage`) (wall densities carry the extrapolated hydrostatic pressure). Where
+compartment, and fluid particles seen through an open damage opening (:mod:`sph.damage`);
+wall densities carry the extrapolated hydrostatic pressure. Where
 :math:`\mathbf{A}_i` is ill-conditioned (isolated particles) the zeroth-order Shepard
 filter is used instead. A linear density field is reproduced exactly.
 

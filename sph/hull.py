@@ -96,6 +96,15 @@ def sdf(u, w, s):
     return math.sqrt(ox * ox + oz * oz) + min(max(qx, qz), 0.0) - r
 
 
+@njit(**JIT)
+def sdf_many(u, w, s):
+    """:func:`sdf` of every point of the arrays ``u, w``."""
+    out = np.empty(u.shape[0])
+    for k in range(u.shape[0]):
+        out[k] = sdf(u[k], w[k], s)
+    return out
+
+
 def outline_points(s: np.ndarray, spacing: float, vertices: bool = False) -> np.ndarray:
     """Points along the outline ``s`` at (about) ``spacing`` apart, as ``(n, 2)`` (u, w).
 

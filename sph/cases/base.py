@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 from importlib import resources
+from typing import Any
 
 import numpy as np
 import yaml
@@ -99,11 +99,11 @@ def b_coef(cfg: CaseConfig, depth: float) -> tuple[float, float]:
 
 
 def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
-                   wall_body=None, wall_body_xz=None) -> Particles:
+                   wall_body=None, wall_body_xz=None, fluid_volume=None) -> Particles:
     """Particles with hydrostatic initial density below the still level ``surface_z``.
 
-    Fluid masses are ``rho_i dx^2``; wall masses are updated with the wall density (their
-    volume stays ``dx^2``, see :func:`sph.walls.wall_pressure`)."""
+    Fluid masses are ``rho_i dx^2`` (or ``rho_i fluid_volume``); wall masses are updated with
+    the wall density (their volume stays ``dx^2``, see :func:`sph.walls.wall_pressure`)."""
     _, b = b_coef(cfg, depth)
     rho = hydrostatic_density(np.maximum(surface_z - fluid_xz[:, 1], 0.0), cfg.fluid.rho0, b,
                               cfg.fluid.gamma, cfg.fluid.gravity)
@@ -111,7 +111,8 @@ def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
     # particle volumes m/rho tile the lattice exactly (a hydrostatic column starts in SPH
     # equilibrium instead of settling with a pressure offset)
     vol = cfg.numerics.dx**2
-    mass = np.concatenate([rho * vol, np.full(len(wall_xz), cfg.fluid.rho0 * vol)])
+    fvol = vol if fluid_volume is None else fluid_volume
+    mass = np.concatenate([rho * fvol, np.full(len(wall_xz), cfg.fluid.rho0 * vol)])
     if wall_body is None:
         wall_body = np.zeros(len(wall_xz), dtype=np.int32)
     if wall_body_xz is None:

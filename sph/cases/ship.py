@@ -29,14 +29,14 @@ from ..absorber import AbsorberConfig, absorber_params
 from ..bodies import DofConfig, RigidBody, Shifted
 from ..config import CaseConfig, ConfigError, spec
 from ..damage import OP_SIZE, DamageOpening, fluid_volume
-from ..geometry import lattice, n_wall_layers
+from ..geometry import n_wall_layers
 from ..hull import (
     HullConfig,
     cabin_area,
     hydrostatics,
     mid_shape,
     outline_points,
-    sdf,
+    sdf_many,
     shape,
     shell_particles,
     submerged,
@@ -147,15 +147,15 @@ def check(cfg: CaseConfig) -> None:
     opening = g.damage.opening * hull.draught
     if g.damage.opening > 0.0 and g.damaged_cabins:
         top = hull.plating + opening
+        allowed = (hull.draught - hull.plating) / hull.draught
         if opening > hull.depth - 2 * hull.plating:
             raise ConfigError("geometry.damage.opening", f"delta = opening * d = {opening:g} "
                               f"m is taller than the cabin ({hull.depth - 2 * hull.plating:g} "
-                              f"m); allowed (0, {(hull.draught - hull.plating) / hull.draught:.4g}]")
+                              f"m); allowed (0, {allowed:.4g})")
         if top >= hull.draught:
             raise ConfigError("geometry.damage.opening", f"the opening's top edge ({top:g} m "
                               f"above the keel) is above the waterline (draught "
-                              f"{hull.draught:g} m); allowed (0, "
-                              f"{(hull.draught - hull.plating) / hull.draught:.4g})")
+                              f"{hull.draught:g} m); allowed (0, {allowed:.4g})")
         if opening < dx:
             raise ConfigError("geometry.damage.opening", f"delta = {opening:g} m is narrower "
                               f"than one particle spacing (numerics.dx = {dx:g} m); use "
@@ -213,8 +213,76 @@ def _opening_pids(hull, shell_uw, side, z0, z1, pids):
     return pids[in_open[nearest]]
 
 
-def _vsdf(u, w, s):
-    return np.array([sdf(a, b, s) for a, b in zip(u, w, strict=True)])
+def _columns(top, bottom, dx):
+    """Rows of one lattice column filling ``[bottom, top]`` exactly: centres and spacing
+    (the spacing is stretched from ``dx`` by at most half a spacing over the column, so
+    that the first and last rows sit half a spacing from the ends: the free surface and the
+    walls are where the geometry says)."""
+    n = int(round((top - bottom) / dx))
+    if n < 1:
+        return np.zeros(0), 0.0
+    dz = (top - bottom) / n
+    return bottom + (np.arange(n) + 0.5) * dz, dz
+
+
+def _sea_columns(g, dx, xs, cog, theta, outer):
+    """Sea particles of one segment's tank: the lattice columns ``xs`` of the tank, each
+    filled from the tank bottom to the still level or to the hull bottom above it; returns
+    points and volumes."""
+    hull = g.hull
+    fine = np.linspace(0.0, g.depth, int(math.ceil(g.depth / (0.02 * dx))) + 1)
+    pts, vols = [], []
+    for xc in xs:
+        top = g.depth
+        under = False
+        if abs(xc - cog[0]) < hull.breadth:
+            col = np.column_stack([np.full_like(fine, xc), fine])
+            d = sdf_many(*_to_keel(col, hull.kg, cog, theta), outer)
+            inside = np.nonzero(d < 0.0)[0]
+            if len(inside):
+                k = inside[0]
+                top = fine[k - 1] + (fine[k] - fine[k - 1]) * d[k - 1] / (d[k - 1] - d[k]) \
+                    if k > 0 else 0.0
+                under = True
+        zs, dz = _columns(top, 0.0, dx)
+        if not len(zs):
+            continue
+        col = np.column_stack([np.full_like(zs, xc), zs])
+        # beside the hull keep half a spacing of clearance; under it the column already
+        # ends half a (vertical) spacing below the plating
+        d = sdf_many(*_to_keel(col, hull.kg, cog, theta), outer)
+        keep = d >= (0.25 if under else 0.5) * dx * 0.999
+        pts.append(col[keep])
+        vols.append(np.full(keep.sum(), dx * dz))
+    return np.concatenate(pts), np.concatenate(vols)
+
+
+def _cargo_columns(hull, fill, dx, inner):
+    """Cargo particles in the keel frame: columns across the cabin, each filled from the
+    cabin floor (or the bilge) up to the level ``plating + fill D``; returns points, volumes
+    and the level."""
+    level = hull.plating + fill * hull.depth
+    width = hull.breadth - 2.0 * hull.plating
+    us, du = _columns(0.5 * width, -0.5 * width, dx)
+    fine = np.linspace(hull.plating, level, int(math.ceil((level - hull.plating)
+                                                           / (0.02 * dx))) + 1)
+    pts, vols = [], []
+    for uc in us:
+        d = sdf_many(np.full_like(fine, uc), fine, inner)
+        wet = np.nonzero(d < 0.0)[0]
+        if not len(wet):
+            continue
+        k = wet[0]
+        bottom = fine[k - 1] + (fine[k] - fine[k - 1]) * d[k - 1] / (d[k - 1] - d[k]) \
+            if k > 0 else fine[0]
+        ws, dz = _columns(level, bottom, dx)
+        if not len(ws):
+            continue
+        col = np.column_stack([np.full_like(ws, uc), ws])
+        keep = sdf_many(col[:, 0], col[:, 1], inner) <= -0.25 * dx * 0.999
+        pts.append(col[keep])
+        vols.append(np.full(keep.sum(), du * dz))
+    return np.concatenate(pts), np.concatenate(vols), level
 
 
 def setup(cfg: CaseConfig) -> CaseSetup:
@@ -234,7 +302,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     z1 = hull.plating + g.damage.opening * hull.draught
     shell_uw, shell_inner = shell_particles(hull, dx, layers)
 
-    fluid_xz, fluid_comp, fluid_surf = [], [], []
+    fluid_xz, fluid_comp, fluid_surf, fluid_vol = [], [], [], []
     wall_xz, wall_body_xz, wall_group, wall_comp, wall_tag = [], [], [], [], []
     cargo_masses = []
     for s, seg in enumerate(segs):
@@ -243,15 +311,11 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         pts, inside, wall_mask, group = flap_tank_lattice(dx, layers, g.tank_length,
                                                           g.tank_height)
         pts = pts + np.array([x_off, 0.0])
-        u, w = _to_keel(pts, hull.kg, cog, theta)
-        near = inside & (pts[:, 1] < g.depth) & (np.abs(u) < hull.breadth) & (
-            w < hull.depth + 2 * dx)
-        clear = np.ones(len(pts), bool)
-        clear[near] = _vsdf(u[near], w[near], outer) >= 0.5 * dx * 0.999
-        sea = inside & (pts[:, 1] < g.depth) & clear
-        fluid_xz.append(pts[sea])
-        fluid_comp.append(np.full(sea.sum(), 2 * s, np.int32))
-        fluid_surf.append(np.full(sea.sum(), g.depth))
+        sea, sea_vol = _sea_columns(g, dx, np.unique(pts[inside, 0]), cog, theta, outer)
+        fluid_xz.append(sea)
+        fluid_vol.append(sea_vol)
+        fluid_comp.append(np.full(len(sea), 2 * s, np.int32))
+        fluid_surf.append(np.full(len(sea), g.depth))
         walls = pts[wall_mask]
         wall_xz.append(walls)
         wall_body_xz.append(walls - np.array([x_off, 0.0]) * (group[:, None] > 0))
@@ -267,12 +331,10 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         wall_tag.append(np.full(len(earth), 1 + s, np.int32))  # hull of segment s (local tag)
         cargo_n = 0
         if seg["cargo"]:
-            level = hull.plating + g.fill * hull.depth
-            cl = lattice(-0.5 * hull.breadth, 0.5 * hull.breadth, hull.plating, level, dx)
-            keep = _vsdf(cl[:, 0], cl[:, 1], inner_s) <= -0.5 * dx * 0.999
-            cl = cl[keep]
+            cl, c_vol, level = _cargo_columns(hull, g.fill, dx, inner_s)
             _, earth = _to_earth(cl, hull.kg, cog, theta)
             fluid_xz.append(earth)
+            fluid_vol.append(c_vol)
             fluid_comp.append(np.full(len(cl), 2 * s + 1, np.int32))
             fluid_surf.append(earth[:, 1] + (level - cl[:, 1]) * math.cos(theta))
             cargo_n = len(cl)
@@ -283,7 +345,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     wall_group = np.concatenate(wall_group)
     wall_tag = np.concatenate(wall_tag)
     parts = make_particles(cfg, fluid_xz, wall_xz, np.concatenate(fluid_surf), g.depth,
-                           wall_body=wall_group, wall_body_xz=np.concatenate(wall_body_xz))
+                           wall_body=wall_group, wall_body_xz=np.concatenate(wall_body_xz),
+                           fluid_volume=np.concatenate(fluid_vol))
     nf = len(fluid_xz)
     parts.comp[:nf] = np.concatenate(fluid_comp)
     parts.comp[nf:] = np.concatenate(wall_comp)
