@@ -5,7 +5,10 @@ bottom up to ``delta = delta_bar d``) are removed (Cao et al. 2019, Sec. IV A). 
 two fluid particles of the sea and of the damaged cabin interact when the straight segment
 between them crosses the plating's mid-surface inside the opening (DESIGN §2), and a fluid
 particle that passes through the opening changes compartment when it crosses the
-mid-surface. Every other pair across the plating stays separated.
+mid-surface. Every other pair across the plating stays separated. The wall layers of the
+plating around the opening reach across the mid-surface (each face's layers lie behind its
+face); a fluid particle does not see such a layer through the opening (:func:`wall_hidden`),
+so the opening's edges are walls for the fluid on both sides and no obstacle in the hole.
 
 The opening travels to the numba kernels as a float array ``op`` (all zeros: no opening):
 
@@ -53,14 +56,10 @@ def keel_frame(x, z, op, kin):
 
 
 @njit(**JIT)
-def passable(xi, zi, xj, zj, ci, cj, op, kin):
-    """True when fluid particles of different compartments see each other through the
-    open opening (call only when ``ci != cj``)."""
+def crosses_opening(xi, zi, xj, zj, op, kin):
+    """True when the segment between two points crosses the mid-surface inside the open
+    opening."""
     if op[0] == 0.0:
-        return False
-    a = int(op[1])
-    b = int(op[2])
-    if not ((ci == a and cj == b) or (ci == b and cj == a)):
         return False
     s = op[7:12]
     ui, wi = keel_frame(xi, zi, op, kin)
@@ -73,6 +72,29 @@ def passable(xi, zi, xj, zj, ci, cj, op, kin):
     uc = ui + f * (uj - ui)
     wc = wi + f * (wj - wi)
     return op[4] * uc > 0.0 and op[5] <= wc <= op[6]
+
+
+@njit(**JIT)
+def passable(xi, zi, xj, zj, ci, cj, op, kin):
+    """True when fluid particles of different compartments see each other through the
+    open opening (call only when ``ci != cj``)."""
+    if op[0] == 0.0:
+        return False
+    a = int(op[1])
+    b = int(op[2])
+    if not ((ci == a and cj == b) or (ci == b and cj == a)):
+        return False
+    return crosses_opening(xi, zi, xj, zj, op, kin)
+
+
+@njit(**JIT)
+def wall_hidden(xf, zf, xw, zw, bw, op, kin):
+    """True when a fluid particle and a wall particle of the damaged hull (group ``bw``)
+    of the same compartment lie on either side of the open opening: the wall's layers that
+    reach across the plating's mid-surface belong to the other side there."""
+    if op[0] == 0.0 or bw != int(op[3]):
+        return False
+    return crosses_opening(xf, zf, xw, zw, op, kin)
 
 
 @njit(**JIT_PARALLEL)

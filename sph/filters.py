@@ -27,13 +27,13 @@ from __future__ import annotations
 
 from numba import prange
 
-from .damage import passable
+from .damage import passable, wall_hidden
 from .jit import JIT_PARALLEL, njit
 from .kernels import f_r2, w_r2
 
 
 @njit(**JIT_PARALLEL)
-def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out, op, kin):
+def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, out, op, kin):
     """First-order MLS density of every fluid particle into ``out`` (walls copied)."""
     n = x.shape[0]
     r2max = kp[3]
@@ -54,8 +54,11 @@ def mls_density(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp, out, op,
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max:
                     continue
-                if comp[j] != ci and (kind[j] != 0 or not passable(
-                        xi, zi, x[j], z[j], ci, comp[j], op, kin)):
+                if kind[j] == 0:
+                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
+                                                      kin):
+                        continue
+                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
                     continue
                 w = w_r2(r2, kp)
                 mw = m[j] * w

@@ -35,13 +35,13 @@ from __future__ import annotations
 
 from numba import prange
 
-from .damage import passable
+from .damage import passable, wall_hidden
 from .jit import JIT_PARALLEL, njit
 from .kernels import f_r2
 
 
 @njit(**JIT_PARALLEL)
-def interact(x, z, vx, vz, rho, p, m, kind, comp, cell_of, cell_start, ncx, kp,
+def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, grx, grz, ax, az, drho, op, kin):
     """Accelerations ``ax, az`` and density rates ``drho`` of all fluid particles.
 
@@ -84,8 +84,11 @@ def interact(x, z, vx, vz, rho, p, m, kind, comp, cell_of, cell_start, ncx, kp,
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max or j == i:
                     continue
-                if comp[j] != ci and (kind[j] != 0 or not passable(
-                        xi, zi, x[j], z[j], ci, comp[j], op, kin)):
+                if kind[j] == 0:
+                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
+                                                      kin):
+                        continue
+                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
                     continue
                 fw = f_r2(r2, kp)
                 rhoj = rho[j]

@@ -149,19 +149,19 @@ class Simulation:
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                       g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
-                      self.b, fl.gamma, self.cfg.numerics.dx**2)
+                      self.b, fl.gamma, self.cfg.numerics.dx**2, self.op)
         if self.delta_coef:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz,
                                           self.op, self.kin)
-        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.comp, g.cell_of,
+        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho, self.op,
                  self.kin)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
-                        self._fz, self._mom, self._pf, self.force_scale)
+                        self._fz, self._mom, self._pf, self.force_scale, self.op)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
 
@@ -180,8 +180,8 @@ class Simulation:
         euler = mls_due or s % num.euler_interval == 0 or self.step == 0
         if mls_due:
             g = self.grid
-            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of, g.cell_start, g.ncx,
-                        self.kp, self._rho_buf, self.op, self.kin)
+            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
+                        g.ncx, self.kp, self._rho_buf, self.op, self.kin)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)

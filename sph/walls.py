@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import prange
 
+from .damage import wall_hidden
 from .eos import tait_density
 from .jit import JIT_PARALLEL, njit
 from .kernels import f_r2, w_r2
@@ -60,11 +61,12 @@ def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
-                  kin, rho0, b_coef, gamma, vol0):
+                  kin, rho0, b_coef, gamma, vol0, op):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
-    its density: ``m = rho vol0``."""
+    its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
+    count (:func:`sph.damage.wall_hidden`)."""
     n = x.shape[0]
     r2max = kp[3]
     for i in prange(n):
@@ -92,7 +94,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
-                if r2 >= r2max:
+                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
                     continue
                 w = w_r2(r2, kp) * m[j] / rho[j]
                 sw += w
@@ -107,7 +109,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
-                n_body, fx, fz, mom, pf, scale):
+                n_body, fx, fz, mom, pf, scale, op):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -125,6 +127,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
         xi = x[i]
         zi = z[i]
         ci = comp[i]
+        b = body[i]
         vi = m[i] / rho[i]
         sx = 0.0
         sz = 0.0
@@ -136,12 +139,11 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
-                if r2 >= r2max:
+                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
                     continue
                 fw = f_r2(r2, kp) * (p[i] + p[j]) * m[j] / rho[j]
                 sx += fw * dx
                 sz += fw * dz
-        b = body[i]
         vi *= scale[ci]
         pf[i, 0] = -vi * sx
         pf[i, 1] = -vi * sz

@@ -14,7 +14,7 @@ from sph.cli import main
 from sph.config import load_case
 
 CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
-              "floating_box"]
+              "floating_box", "ship_decay", "damaged_ship"]
 
 # A still-water tank small enough to run in about a second: 10 x 5 fluid particles.
 TINY_STILL_WATER = [
@@ -67,7 +67,7 @@ def _stderr_lines(err):
 # --------------------------------------------------------------------------- cases / example
 
 
-def test_cases_lists_the_four_cases(capsys):
+def test_cases_lists_every_builtin_case(capsys):
     assert main(["cases"]) == 0
     out = capsys.readouterr().out
     lines = [ln for ln in out.splitlines() if ln.strip()]

@@ -261,7 +261,7 @@ def test_load_case_with_overrides(tmp_path):
 
 def test_builtin_case_names():
     assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
-                          "floating_box"}
+                          "floating_box", "ship_decay", "damaged_ship"}
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
