@@ -99,8 +99,12 @@ def wall_hidden(xf, zf, xw, zw, bw, op, kin):
 
 @njit(**JIT_PARALLEL)
 def reclassify(x, z, kind, comp, op, kin):
-    """Fluid particles in the opening take the compartment of their side of the
-    mid-surface (sea outside, cabin inside)."""
+    """Fluid particles in and around the opening take the compartment of their side of
+    the mid-surface (sea outside, cabin inside).
+
+    The band reaches ``reach`` beyond the opening's edges: a particle that passes the
+    opening close to an edge may round the plating's end, and it belongs to the side it is
+    on (elsewhere along the plating no particle is on the wrong side)."""
     a = int(op[1])
     b = int(op[2])
     s = op[7:12]
@@ -109,7 +113,7 @@ def reclassify(x, z, kind, comp, op, kin):
         if kind[i] != 0 or (comp[i] != a and comp[i] != b):
             continue
         u, w = keel_frame(x[i], z[i], op, kin)
-        if op[4] * u <= 0.0 or w < op[5] or w > op[6]:
+        if op[4] * u <= 0.0 or w < op[5] - reach or w > op[6] + reach:
             continue
         d = sdf(u, w, s)
         if abs(d) < reach:

@@ -42,9 +42,9 @@ class HullConfig:
     bilge_radius: float = spec(1.5, lo=0.0, hi=1.0e3, unit="m", doc="outer bilge radius")
     plating: float = spec(0.1, lo=0.0, lo_open=True, hi=1.0e2, unit="m",
                           doc="plating thickness (bottom, sides and deck)")
-    kg: float = spec(4.4, lo=0.0, hi=1.0e3, unit="m",
+    kg: float = spec(3.4, lo=0.0, hi=1.0e3, unit="m",
                      doc="height of the centre of gravity above the keel")
-    gyradius: float = spec(5.9, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
+    gyradius: float = spec(4.7, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
                            doc="roll radius of gyration about the centre of gravity")
 
     def check(self, key):
@@ -66,6 +66,15 @@ class HullConfig:
         if self.kg >= self.depth:
             raise ConfigError(f"{key}.kg", f"must be in [0, {key}.depth = {self.depth:g}) m; "
                               f"got {self.kg:g}")
+
+
+def opening_bottom(hull: HullConfig) -> float:
+    """Keel-frame height of a side opening's lower edge: the cabin floor, or, on a rounded
+    bilge, the point where the plating's mid-surface turns 45 degrees. Below it the plating
+    is nearly horizontal and runs tangent to an edge cut at the floor's height, leaving a
+    sliver that the particles cannot resolve."""
+    s = mid_shape(hull)
+    return max(hull.plating, float(s[1] + s[3] * (1.0 - math.cos(0.25 * math.pi))))
 
 
 def shape(hull: HullConfig, offset: float) -> np.ndarray:
@@ -121,10 +130,13 @@ def outline_points(s: np.ndarray, spacing: float, vertices: bool = False) -> np.
         return (0.5 * math.pi * r, lambda f, cu=cu, cw=cw, r=r, a0=a0: np.column_stack(
             [cu + r * np.cos(a0 + 0.5 * math.pi * f), cw + r * np.sin(a0 + 0.5 * math.pi * f)]))
 
-    pieces += [seg((-hw + rb, wb), (hw - rb, wb)), arc(hw - rb, wb + rb, rb, -0.5 * math.pi),
+    # from the middle of the bottom round to it: the points are then mirror-symmetric
+    # about u = 0 (as the hull is), whatever the spacing
+    pieces += [seg((0.0, wb), (hw - rb, wb)), arc(hw - rb, wb + rb, rb, -0.5 * math.pi),
                seg((hw, wb + rb), (hw, wt - rt)), arc(hw - rt, wt - rt, rt, 0.0),
                seg((hw - rt, wt), (-hw + rt, wt)), arc(-hw + rt, wt - rt, rt, 0.5 * math.pi),
-               seg((-hw, wt - rt), (-hw, wb + rb)), arc(-hw + rb, wb + rb, rb, math.pi)]
+               seg((-hw, wt - rt), (-hw, wb + rb)), arc(-hw + rb, wb + rb, rb, math.pi),
+               seg((-hw + rb, wb), (0.0, wb))]
     lengths = np.array([p[0] for p in pieces])
     total = lengths.sum()
     if vertices:  # every piece from its start point: corners exact (for areas)

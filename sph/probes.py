@@ -19,14 +19,20 @@ from .kernels import w_r2
 
 
 @njit(**JIT)
-def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz):
-    """Free-surface height (absolute z, m) at each probe abscissa ``xp``.
+def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz, wall_fill=False):
+    r"""Free-surface height (absolute z, m) at each probe abscissa ``xp``.
 
-    Only fluid of compartment ``cfilter`` counts (all fluid if ``cfilter < 0``)."""
+    Only fluid of compartment ``cfilter`` counts (all fluid if ``cfilter < 0``). With
+    ``wall_fill`` the wall particles passed in (of compartment ``cfilter``) complete the
+    kernel next to a wall: :math:`\phi = \sum_f V_f W / (1 - \sum_w V_w W)`, so that a
+    probe closer to a wall than the kernel support still reads the level (a point on the
+    free surface against a vertical wall has a quarter of its kernel in fluid and half in
+    the wall: phi = 1/2 again); points inside the wall layers are skipped."""
     radius = np.sqrt(kp[3])
     out = np.full(xp.shape[0], np.nan)
     n = x.shape[0]
     cand = np.empty(n, dtype=np.int64)
+    wcand = np.empty(n, dtype=np.int64)
     for k in range(xp.shape[0]):
         nc = 0
         ztop = -1.0e300
@@ -41,6 +47,13 @@ def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz):
             continue
         zs = ztop + radius
         phi_prev = 0.0
+        nw = 0
+        if wall_fill:
+            for j in range(n):
+                if (kind[j] != 0 and (cfilter < 0 or comp[j] == cfilter)
+                        and abs(x[j] - xp[k]) < radius):
+                    wcand[nw] = j
+                    nw += 1
         while zs > zfloor:
             phi = 0.0
             for c in range(nc):
@@ -48,6 +61,18 @@ def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz):
                 dx = xp[k] - x[j]
                 dzz = zs - z[j]
                 phi += w_r2(dx * dx + dzz * dzz, kp) * m[j] / rho[j]
+            if nw > 0:
+                sw = 0.0
+                for c in range(nw):
+                    j = wcand[c]
+                    dx = xp[k] - x[j]
+                    dzz = zs - z[j]
+                    sw += w_r2(dx * dx + dzz * dzz, kp) * m[j] / rho[j]
+                if sw > 0.8:  # inside the wall layers
+                    phi_prev = 0.0
+                    zs -= dz
+                    continue
+                phi /= 1.0 - sw
             if phi >= 0.5:
                 out[k] = zs + dz * (phi - 0.5) / (phi - phi_prev)
                 break

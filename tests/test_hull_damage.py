@@ -115,14 +115,15 @@ def test_pair_rule_follows_the_body():
 
 
 def test_reclassify_moves_particles_that_crossed():
-    op, kin = _opening()
-    x = np.array([7.7, 8.3, 7.7, 8.3, 0.0])
-    z = np.array([1.5, 1.5, 3.5, 3.5, 1.5])
-    kind = np.zeros(5, np.int32)
-    comp = np.array([0, 1, 0, 1, 0], np.int32)  # first two on the wrong side of the opening
+    op, kin = _opening()  # opening from w = 0.1 to 2.1, reach 2.0
+    x = np.array([7.7, 8.3, 7.7, 8.3, 7.7, 8.3, 0.0])
+    z = np.array([1.5, 1.5, 3.5, 3.5, 4.5, 4.5, 1.5])
+    kind = np.zeros(7, np.int32)
+    comp = np.array([0, 1, 0, 1, 0, 1, 0], np.int32)  # the first six on the wrong side
     reclassify(x, z, kind, comp, op, kin)
-    # in the opening: compartment of the side; above it or far from it: unchanged
-    assert list(comp) == [1, 0, 0, 1, 0]
+    # in the opening and within reach of its edge (a particle rounding the plating's end):
+    # compartment of the side; beyond reach or far from the plating: unchanged
+    assert list(comp) == [1, 0, 1, 0, 0, 1, 0]
 
 
 def test_orifice_rate():

@@ -35,6 +35,7 @@ from ..hull import (
     cabin_area,
     hydrostatics,
     mid_shape,
+    opening_bottom,
     outline_points,
     sdf_many,
     shape,
@@ -136,11 +137,13 @@ def check(cfg: CaseConfig) -> None:
     half = 0.5 * hull.breadth
     lo, hi = half + 2.0 * hull.breadth / 16.0 + 4 * dx, g.tank_length - half - 4 * dx
     if g.absorber.enabled:
-        hi = min(hi, g.absorber.start - half)
+        # half a breadth of open water between the hull and the absorbing zone: the zone
+        # damps the flow, and a drifting ship must not push its own flow into it
+        hi = min(hi, g.absorber.start - 2.0 * half)
     if not lo <= g.ship_x <= hi:
         raise ConfigError("geometry.ship_x", f"must be in [{lo:g}, {hi:g}] m so that the "
-                          f"ship lies inside the tank, clear of the flap and of the "
-                          f"absorbing zone; got {g.ship_x:g}")
+                          f"ship lies inside the tank, clear of the flap and at least half "
+                          f"a breadth from the absorbing zone; got {g.ship_x:g}")
     if hull.plating >= dx:
         log.info("plating %.3g m is at least one particle spacing; it is resolved as thin "
                  "walls all the same", hull.plating)
@@ -298,7 +301,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     period = 2.0 * math.pi / omega
     outer, inner_s = shape(hull, 0.0), shape(hull, hull.plating)
     side = SIDES[g.damage.side]
-    z0 = hull.plating
+    z0 = opening_bottom(hull)
     z1 = hull.plating + g.damage.opening * hull.draught
     shell_uw, shell_inner = shell_particles(hull, dx, layers)
 
@@ -404,13 +407,14 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     def cabin_probe(s):
         def height(p):
             kin = motions[n_seg + s].kinematics()
-            sel = (p.kind == 0) & (p.comp == 2 * s + 1)
-            if not sel.any():
+            sel = p.comp == 2 * s + 1  # the cabin's fluid and the walls that face it
+            if not np.any(p.kind[sel] == 0):
                 return 0.0
             xz = np.column_stack([p.x[sel], p.z[sel]])
             u, w = _to_keel(xz, hull.kg, kin[:2], kin[2])
             out = surface_heights(u, w, p.m[sel], p.rho[sel], p.kind[sel], p.comp[sel], -1,
-                                  np.array([u_probe]), kp, hull.plating, 0.1 * dx)[0]
+                                  np.array([u_probe]), kp, hull.plating, 0.1 * dx,
+                                  True)[0]
             return 0.0 if math.isnan(out) else float(out - hull.plating)
         return height
 

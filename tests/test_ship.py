@@ -1,0 +1,135 @@
+"""The damaged ship in still water: floating, sealed cargo, flooding through the opening.
+
+A small tank (depth 15 m, 60 m long) at dx = 0.8 m keeps these runs to seconds; the hull is
+the paper's (B = 16 m, D = 8.5 m, d = 4.2 m), two strip segments (intact cabin weighted 2/3,
+damaged cabin 1/3). The flap does not move (theta0 = 0): still water.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sph.cases.ship import _to_keel
+from sph.damage import orifice_rate
+from sph.hull import (
+    HullConfig,
+    cabin_area,
+    flooded_draught,
+    mid_shape,
+    opening_bottom,
+    sdf_many,
+    submerged,
+)
+from tests.physics_helpers import run_builtin
+
+DX = 0.8
+STILL_SMALL_TANK = [
+    f"numerics.dx={DX}",
+    "geometry.depth=15", "geometry.tank_length=70", "geometry.ship_x=30",
+    "geometry.tank_height=30",
+    "geometry.absorber.start=50", "geometry.absorber.length=20",
+    "geometry.wavemaker.amplitude=null", "geometry.wavemaker.theta0=0",
+    "run.output_interval=0.1",
+]
+HULL = HullConfig()
+
+
+def _keel_coords(sim, group):
+    p = sim.parts
+    kin = sim.kin[group]
+    u, w = _to_keel(np.column_stack([p.x, p.z]), HULL.kg, kin[:2], kin[2])
+    return u, w
+
+
+def test_intact_ship_floats_at_its_draught_and_keeps_its_cargo():
+    """Intact ship with cargo at eta = 0.5 released at its draught: it stays there (heave
+    within 2 % of d), stays upright, the cargo keeps its level and no sea enters the hull."""
+    sim = run_builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.fill=0.5", "geometry.damage.opening=0", "run.t_end=6"])
+    ds = sim.dataset()
+    # the start-up transient (the fluid settling against the walls) leaves a heave
+    # oscillation of a few centimetres and a roll of a few tenths of a degree in this small
+    # tank; the mean heave stays within 2 % of the draught
+    heave = ds["heave"].values
+    assert abs(np.mean(heave)) < 0.02 * HULL.draught, np.mean(heave)
+    assert np.max(np.abs(heave)) < 0.03 * HULL.draught, np.max(np.abs(heave))
+    assert np.max(np.abs(ds["roll"].values)) < 1.0  # degree
+    # cargo level at W1 (relative to h_w = eta D) within half a particle spacing
+    w1 = ds["probe_elevation"].sel(probe="W1").values
+    assert np.max(np.abs(w1[5:])) < 0.5 * DX, w1
+    # sealed: every cargo particle inside the inner surface, every sea particle outside
+    # the outer surface of its segment's hull (signed distances in the keel frame)
+    p = sim.parts
+    fluid = p.kind == 0
+    n_seg = 2
+    for s in range(n_seg):
+        u, w = _keel_coords(sim, 1 + n_seg + s)
+        d_mid = sdf_many(u, w, mid_shape(HULL))
+        sea = fluid & (p.comp == 2 * s)
+        cabin = fluid & (p.comp == 2 * s + 1)
+        assert np.all(d_mid[sea] > 0.0), "sea particle inside the hull"
+        assert np.all(d_mid[cabin] < 0.0), "cargo particle outside the hull"
+    cargo0 = np.sum(sim.setup.particles.comp[:sim.n_fluid] == 1)
+    assert np.sum(fluid & (p.comp == 1)) == cargo0
+
+
+def _flood_run(t_end):
+    return run_builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.fill=0", "geometry.damage.opening=0.9", "geometry.damage.side=back",
+        "geometry.damage.time_periods=0.16", f"run.t_end={t_end}"])
+
+
+def _orifice_estimate(hull, z1):
+    # the opening spans its lower edge to z1 above the keel; depths below the outside still
+    # level at the draught
+    return orifice_rate(hull.draught - opening_bottom(hull), hull.draught - z1, 9.81)
+
+
+def test_early_inflow_through_the_opening_is_of_the_orifice_order():
+    """The first 1.5 s of flooding: the inflow rate is that of an orifice of the opening's
+    height, q = C_d sqrt(2g) 2/3 (y1^1.5 - y0^1.5) with C_d = 0.6 (sharp-edged), to within
+    a factor 0.6-1.5 (the discharge coefficient of a slot in a thin plate lies between 0.6 and
+    1, and the ship sinks as it floods, which raises the head)."""
+    sim = _flood_run(2.6)
+    ds = sim.dataset()
+    t1 = ds.attrs["damage_time"]
+    t = ds["time"].values
+    q = ds["flood_volume"].values
+    assert np.all(q[t < t1 - 1e-9] == 0.0)
+    sel = (t >= t1 + 0.3) & (t <= t1 + 1.5)
+    rate = np.polyfit(t[sel], q[sel], 1)[0]
+    z1 = HULL.plating + 0.9 * HULL.draught
+    est = _orifice_estimate(HULL, z1)
+    assert 0.6 * est < rate < 1.5 * est, (rate, est)
+    # the flooding water sits in the damaged cabin: every cabin particle inside the hull
+    p = sim.parts
+    u, w = _keel_coords(sim, 4)
+    d_mid = sdf_many(u, w, mid_shape(HULL))
+    cabin = (p.kind == 0) & (p.comp == 3)
+    assert cabin.sum() > 0
+    assert np.all(d_mid[cabin] < 0.5 * DX)
+
+
+@pytest.mark.slow
+def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
+    """Flooding to equilibrium: the mean heave over the last 10 s agrees within 5 % with the
+    lost-buoyancy draught of :func:`sph.hull.flooded_draught`, the ship stays upright (a
+    flooded symmetric cabin gives no heeling moment) and the flooded cabin's level equals the
+    outside still level."""
+    sim = _flood_run(45.0)
+    ds = sim.dataset()
+    t = ds["time"].values
+    late = t > t[-1] - 10.0
+    heave = float(np.mean(ds["heave"].values[late]))
+    expected = flooded_draught(HULL, 1.0 / 3.0) - HULL.draught
+    assert abs(heave - expected) < 0.05 * abs(expected), (heave, expected)
+    assert abs(float(np.mean(ds["roll"].values[late]))) < 1.0
+    q = float(np.mean(ds["flood_volume"].values[late]))
+    # the cabin holds the sea up to the new waterline
+    q_expected = submerged(HULL, HULL.draught + expected, HULL.plating)[0]
+    assert abs(q - q_expected) < 0.05 * q_expected, (q, q_expected)
+    assert q < cabin_area(HULL)
+    assert math.isfinite(heave)
