@@ -16,7 +16,11 @@ Discrete forms of Cao et al. (2019):
     \frac{\mathbf{v}_{ij}\cdot\mathbf{r}_{ij}}{r_{ij}^2 + (0.01h)^2}\nabla_i W_{ij}
     \quad\text{(Eq. 5, fluid--fluid pairs only: free slip at walls)}
 
-with :math:`c_i = c_j = c_0`. The optional delta-SPH diffusive term (second source paper,
+with :math:`c_i = c_j = c_0`. Against a wall particle the fluid pressure enters as
+:math:`\max(P_i, 0)` (and the wall's own extrapolated pressure is clamped at zero,
+:func:`sph.walls.wall_pressure`): a wall pushes and never pulls, so fluid in tension (a vortex
+core reaching the tank floor under a rolling hull) cannot be drawn through the wall layers.
+The optional delta-SPH diffusive term (second source paper,
 Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid particles:
 
 .. math::
@@ -97,7 +101,10 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                 dvz = vzi - vz[j]
                 vr = dvx * dx + dvz * dz
                 div += vj * vr * fw
-                coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
+                if kind[j] == 0:
+                    coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
+                else:  # a wall pushes and never pulls: fluid tension does not count
+                    coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
                 if kind[j] == 0:
                     coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
                     if use_delta:

@@ -249,3 +249,66 @@ def flooded_draught(hull: HullConfig, damaged_weight: float) -> float:
         else:
             hi = mid
     return 0.5 * (lo + hi)
+
+
+def _bisect(fn, lo: float, hi: float, n: int = 80) -> float:
+    """Root of an increasing ``fn`` in ``[lo, hi]``."""
+    for _ in range(n):
+        mid = 0.5 * (lo + hi)
+        if fn(mid) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def flooded_equilibrium(hull: HullConfig, damaged_weight: float,
+                        tank_length: float | None = None) -> dict:
+    """Upright equilibrium of the flooded ship, strip by strip, in tanks of finite length.
+
+    In the 2-D strip model each segment floats in its own tank of length ``L``: the water
+    that floods the damaged cabin leaves that tank's sea, whose level drops, and the intact
+    segments' tank level rises as the ship sinks. With the keel lowered by ``s``, the intact
+    tank's level rises by ``(A(d_i) - A(d)) / L`` and the damaged tank's by
+    ``(A(d_d) - A_in(d_d) - A(d)) / L`` (water area conserved in each tank, the cabin level
+    equal to the outside level), where ``d_i, d_d`` are the draughts below each tank's level
+    and ``A, A_in`` the outer and inner (cabin) areas below a level. The keel sinks until
+    ``(1 - w) A(d_i) + w (A(d_d) - A_in(d_d)) = A(d)``. ``tank_length=None`` is the open
+    sea (the lost-buoyancy draught of :func:`flooded_draught`).
+
+    Returns ``heave`` (keel displacement, m, negative down), the draughts ``d_intact``,
+    ``d_damaged`` below each tank's level, the level changes ``rise_intact``,
+    ``rise_damaged`` and the flood area ``flood`` (m2)."""
+    area0 = submerged(hull, hull.draught)[0]
+    inv_l = 0.0 if tank_length is None else 1.0 / tank_length
+
+    def outer(level):
+        return submerged(hull, level)[0]
+
+    def inner(level):
+        return submerged(hull, level, hull.plating)[0] if level > hull.plating else 0.0
+
+    def draught_intact(s):
+        # level rise r with d = d0 + s + r and r = (A(d) - A(d0)) / L
+        return _bisect(lambda d: d - hull.draught - s - (outer(d) - area0) * inv_l,
+                       hull.draught + s - hull.depth, hull.draught + s + hull.depth)
+
+    def draught_damaged(s):
+        return _bisect(lambda d: d - hull.draught - s
+                       - (outer(d) - inner(d) - area0) * inv_l,
+                       hull.draught + s - hull.depth, hull.draught + s + hull.depth)
+
+    def excess(s):
+        di, dd = draught_intact(s), draught_damaged(s)
+        return ((1.0 - damaged_weight) * outer(min(di, hull.depth))
+                + damaged_weight * (outer(min(dd, hull.depth)) - inner(min(dd, hull.depth)))
+                - area0)
+
+    s_max = hull.depth - hull.draught
+    if excess(s_max) < 0.0:
+        return dict(heave=-math.inf, d_intact=math.inf, d_damaged=math.inf,
+                    rise_intact=math.nan, rise_damaged=math.nan, flood=math.nan)
+    s = _bisect(excess, 0.0, s_max)
+    di, dd = draught_intact(s), draught_damaged(s)
+    return dict(heave=-s, d_intact=di, d_damaged=dd, rise_intact=di - hull.draught - s,
+                rise_damaged=dd - hull.draught - s, flood=inner(dd))

@@ -66,7 +66,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
     its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
-    count (:func:`sph.damage.wall_hidden`)."""
+    count (:func:`sph.damage.wall_hidden`). The pressure is clamped at zero: a wall in tension
+    would attract the fluid through itself."""
     n = x.shape[0]
     r2max = kp[3]
     for i in prange(n):
@@ -99,10 +100,9 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
                 w = w_r2(r2, kp) * m[j] / rho[j]
                 sw += w
                 sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
-        if sw > 1.0e-6:
-            p[i] = sp / sw
-        else:
-            p[i] = 0.0
+        # a wall in tension would pull fluid through itself (a vortex core reaching a wall
+        # takes negative pressure with it); walls push, they do not pull
+        p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
         m[i] = rho[i] * vol0
 
@@ -141,7 +141,8 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
                     continue
-                fw = f_r2(r2, kp) * (p[i] + p[j]) * m[j] / rho[j]
+                # as in the momentum equation, fluid tension does not pull on a wall
+                fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
                 sx += fw * dx
                 sz += fw * dz
         vi *= scale[ci]

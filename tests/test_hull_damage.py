@@ -8,18 +8,21 @@ import numpy as np
 import pytest
 
 from sph.config import ConfigError, build_case
-from sph.damage import OP_SIZE, orifice_rate, passable, reclassify
+from sph.damage import OP_SIZE, orifice_rate, passable, reclassify, wall_hidden
 from sph.hull import (
     HullConfig,
     cabin_area,
     flooded_draught,
     hydrostatics,
     mid_shape,
+    opening_bottom,
     sdf,
     shape,
     shell_particles,
     submerged,
 )
+from sph.kernels import kernel_params
+from sph.probes import surface_heights
 from sph.walls import fixed_kinematics
 
 HULL = HullConfig()
@@ -112,6 +115,46 @@ def test_pair_rule_follows_the_body():
 
     assert passable(*earth(8.3, 1.5), *earth(7.6, 1.5), 0, 1, op, kin)
     assert not passable(*earth(8.3, 3.0), *earth(7.6, 3.0), 0, 1, op, kin)
+
+
+def test_wall_layers_across_the_opening_are_hidden():
+    op, kin = _opening()  # damaged hull = wall group 0
+    # a cabin particle inside the opening and a cabin-face layer behind the removed plating
+    # (outside the hull): hidden; the same layer above the opening: seen
+    assert wall_hidden(7.6, 1.5, 8.35, 1.5, 0, op, kin)
+    assert not wall_hidden(7.6, 3.5, 8.35, 3.5, 0, op, kin)
+    # another body's walls and a closed opening: always seen
+    assert not wall_hidden(7.6, 1.5, 8.35, 1.5, 1, op, kin)
+    closed, _ = _opening(open_=False)
+    assert not wall_hidden(7.6, 1.5, 8.35, 1.5, 0, closed, kin)
+
+
+def test_opening_lower_edge_on_the_bilge():
+    # mid-surface bilge radius r = 1.5 - 0.05 centred 1.5 above the keel: 45-degree point
+    r = HULL.bilge_radius - 0.5 * HULL.plating
+    assert opening_bottom(HULL) == pytest.approx(1.5 - r * math.cos(math.pi / 4))
+    square = HullConfig(bilge_radius=0.0)
+    assert opening_bottom(square) == pytest.approx(square.plating)
+
+
+def test_probe_next_to_a_wall_reads_the_level():
+    """A probe 0.1 m from a vertical wall (closer than the kernel support) reads the level
+    when the wall particles complete the kernel; without them it reads low."""
+    dx, level = 0.8, 4.0
+    kp = kernel_params("gaussian", 1.23 * dx)
+    fx, fz = np.meshgrid(-(np.arange(12) + 0.5) * dx, (np.arange(5) + 0.5) * dx)
+    wx, wz = np.meshgrid((np.arange(3) + 0.5) * dx, (np.arange(14) + 0.5) * dx - 1.0)
+    x = np.concatenate([fx.ravel(), wx.ravel()])
+    z = np.concatenate([fz.ravel(), wz.ravel()])
+    kind = np.concatenate([np.zeros(fx.size, np.int32), np.ones(wx.size, np.int32)])
+    m = np.full(x.size, 1000.0 * dx * dx)
+    rho = np.full(x.size, 1000.0)
+    comp = np.zeros(x.size, np.int32)
+    xp = np.array([-0.1])
+    with_walls = surface_heights(x, z, m, rho, kind, comp, -1, xp, kp, 0.0, 0.01, True)[0]
+    fluid_only = surface_heights(x, z, m, rho, kind, comp, -1, xp, kp, 0.0, 0.01, False)[0]
+    assert with_walls == pytest.approx(level, abs=0.1 * dx)
+    assert not fluid_only > level - 0.5 * dx  # NaN or well below the level
 
 
 def test_reclassify_moves_particles_that_crossed():
