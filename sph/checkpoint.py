@@ -59,11 +59,12 @@ _NAME = re.compile(r"^step-(\d{10})\.npz$")
 _TMP = re.compile(r"^\.step-\d{10}\.npz\.tmp-\d+$")
 
 #: config keys that may differ between a checkpoint and the run that resumes it: they say
-#: how long to run and what to write, not what is computed
+#: how long to run, what to write and when to call a run blown up, not what is computed
+#: (the results do not depend on the thread count)
 RESUMABLE_KEYS = frozenset({
     "title", "numerics.threads", "run.t_end", "run.max_steps", "run.flush_seconds",
     "run.vtk_interval", "run.checkpoint_interval", "run.checkpoint_wall_seconds",
-    "run.keep_checkpoints",
+    "run.keep_checkpoints", "run.check_interval", "run.density_min", "run.density_max",
 })
 
 #: scalar entries: name -> (attribute of the Simulation, type)

@@ -84,7 +84,11 @@ def main(argv=None) -> int:
 
         sys.stdout.write(example_text(args.name))
         return 0
-    return _run(args)
+    try:
+        return _run(args)
+    except KeyboardInterrupt:  # before the time loop (while building the particles)
+        print("interrupted before the run started", file=sys.stderr)
+        return 4
 
 
 def _run(args) -> int:

@@ -385,13 +385,19 @@ class Simulation:
                         path = (self.checkpoint(checkpoint_dir) if checkpoint_dir is not None
                                 else None)
                         raise RunInterrupted(self.step, self.t, stop.signal_name, path)
-            if checkpoint_dir is not None:
-                if self.status != "completed" or run.keep_checkpoints:
+                # a signal from here on is ignored: the run is done
+                if checkpoint_dir is not None and (self.status != "completed"
+                                                   or run.keep_checkpoints):
                     self.checkpoint(checkpoint_dir)
-                else:
+                if out_path is not None and self.record.time:
+                    self.wall_seconds = wallclock.perf_counter() - t_wall0
+                    self.write(out_path)
+                    out_path = None  # written: nothing left to do below
+                if checkpoint_dir is not None and self.status == "completed" and not (
+                        run.keep_checkpoints):
                     from .checkpoint import remove_checkpoints
 
-                    remove_checkpoints(checkpoint_dir)
+                    remove_checkpoints(checkpoint_dir)  # only once the output is safe
         except SimulationError as exc:
             self.status = f"failed: {exc}"
             pending = exc
