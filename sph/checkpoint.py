@@ -153,10 +153,9 @@ def _payload(sim) -> dict[str, np.ndarray]:
     rec = sim.record
     n = len(rec.time)
     out["record.time"] = np.asarray(rec.time, dtype=np.float64)
-    out["record.surface"] = np.asarray(rec.surface, dtype=np.float64).reshape(n, -1) if n \
-        else np.zeros((0, 0))
-    out["record.pressure"] = np.asarray(rec.pressure, dtype=np.float64).reshape(n, -1) if n \
-        else np.zeros((0, 0))
+    for name in ("surface", "pressure"):  # (sample, probe); probes may be none
+        out[f"record.{name}"] = (np.asarray(getattr(rec, name), dtype=np.float64) if n
+                                 else np.zeros((0, 0)))
     for key, values in rec.series.items():
         out[f"record.series.{key}"] = np.asarray(values, dtype=np.float64)
     out["stateful.count"] = np.array(len(sim.stateful))
@@ -322,6 +321,10 @@ def restore(sim, arrays: dict[str, np.ndarray], source: str | os.PathLike[str] =
     diffs = config_differences(stored, sim.cfg)
     if diffs:
         raise CheckpointMismatch(where, diffs)
+    if str(arrays["version"]) != __version__:
+        log.warning("checkpoint %s was written by sph-flood %s, this is %s: the resumed run "
+                    "may differ from an uninterrupted one", source, arrays["version"],
+                    __version__)
     fields = str(arrays["particles.fields"])
     if fields != " ".join(FLOAT_FIELDS) + " | " + " ".join(INT_FIELDS):
         raise CheckpointError(f"checkpoint {str(source)!r} holds other particle fields "
