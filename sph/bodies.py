@@ -105,13 +105,21 @@ class RigidBody:
         self.v[:] = new_v * self.mask
 
     def get_state(self) -> dict:
-        """Everything :meth:`update` and :meth:`kinematics` depend on (for checkpoints)."""
+        """Everything :meth:`update`, :meth:`kinematics` and the output depend on (for
+        checkpoints): position, velocity at both leapfrog levels, the acceleration of the
+        last evaluation (it feeds the wall-pressure extrapolation) and the fluid forces."""
         return {"q": self.q.copy(), "v": self.v.copy(), "v_old": self.v_old.copy(),
-                "a": self.a.copy(), "force": self.force.copy()}
+                "a": self.a.copy(), "force": self.force.copy(),
+                "segment_force": self.segment_force.copy()}
 
     def set_state(self, state: dict) -> None:
-        for key in ("q", "v", "v_old", "a", "force"):
-            getattr(self, key)[:] = state[key]
+        for key in ("q", "v", "v_old", "a", "force", "segment_force"):
+            target = getattr(self, key)
+            value = np.asarray(state[key], dtype=np.float64)
+            if value.shape != target.shape:
+                raise ValueError(f"body state {key!r} has shape {value.shape}, expected "
+                                 f"{target.shape}")
+            target[:] = value
 
     def motions(self) -> dict:
         """Sway (m), heave (m) and roll (degree, positive towards +x) from the start."""

@@ -1,14 +1,31 @@
 """Command-line interface: ``sph run``, ``sph example``, ``sph cases``.
 
-Errors in the case file are reported as one line naming the key and the allowed range (exit
-status 2); a simulation that blows up reports step, time and cause (exit status 3) after
-writing what it had computed.
+``sph run CASE.yaml -o OUT.nc`` keeps checkpoints in ``OUT.nc.ckpt/`` (see
+:mod:`sph.checkpoint`) and by default resumes from the newest valid one: running the same
+command again after a kill, a pre-emption or a full disk continues the run. ``--restart``
+deletes the checkpoints and starts from t = 0; ``--no-restart`` never starts from t = 0 (it
+fails when there is nothing to resume).
+
+Exit status:
+
+== ==================================================================================
+0  done (or stopped at ``run.max_steps``; running again with a larger limit resumes)
+2  invalid case file or command line, a checkpoint of another configuration, or
+   ``--no-restart`` with nothing to resume; one line names the key and the allowed range
+3  the simulation blew up; the message names step, time and cause, and the output up
+   to that moment is written
+4  interrupted by SIGINT or SIGTERM; a checkpoint and the output so far are written,
+   and running the same command again resumes
+5  the output or a checkpoint cannot be written (unwritable directory, disk full);
+   earlier files are left intact
+== ==================================================================================
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import os
 import sys
 from pathlib import Path
 
@@ -33,6 +50,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.add_argument("--check", action="store_true",
                      help="validate the case file and build the particles, then stop")
+    again = run.add_mutually_exclusive_group()
+    again.add_argument("--restart", dest="resume", action="store_const", const="restart",
+                       default="auto", help="delete the checkpoints of OUTPUT and start "
+                       "from t = 0 (default: resume from the newest valid checkpoint)")
+    again.add_argument("--no-restart", dest="resume", action="store_const", const="resume",
+                       help="never start from t = 0: resume from the newest valid "
+                       "checkpoint, fail (exit 2) if there is none")
 
     ex = sub.add_parser("example", help="print the YAML of a built-in case")
     ex.add_argument("name", help="case name (see `sph cases`)")
@@ -60,12 +84,17 @@ def main(argv=None) -> int:
 
         sys.stdout.write(example_text(args.name))
         return 0
-    return _run(args)
+    try:
+        return _run(args)
+    except KeyboardInterrupt:  # before the time loop (while building the particles)
+        print("interrupted before the run started", file=sys.stderr)
+        return 4
 
 
 def _run(args) -> int:
+    from .checkpoint import checkpoint_dir, resume_or_start
     from .config import load_case
-    from .solver import Simulation, SimulationError
+    from .solver import RunInterrupted, Simulation, SimulationError
 
     overrides = list(args.overrides)
     if args.threads is not None:
@@ -90,28 +119,58 @@ def _run(args) -> int:
         print("case is valid")
         return 0
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
+        _check_writable(out.parent)
     except OSError as exc:
-        print(f"error: cannot create output directory {str(out.parent)!r}: {exc.strerror}",
-              file=sys.stderr)
-        return 2
+        print(f"error: cannot write to the output directory {str(out.parent)!r}: "
+              f"{exc.strerror or exc}; nothing was computed", file=sys.stderr)
+        return 5
+    ckpt = checkpoint_dir(out)
     try:
-        sim.run(out, progress=not args.no_progress, vtk_dir=args.vtk)
+        resumed = resume_or_start(sim, ckpt, args.resume)
+    except ConfigError as exc:  # another configuration, or nothing to resume
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if resumed is not None:
+        log.info("resuming from checkpoint %s at t = %.6g s (step %d)", resumed, sim.t,
+                 sim.step)
+    try:
+        sim.run(out, progress=not args.no_progress, vtk_dir=args.vtk, checkpoint_dir=ckpt)
     except SimulationError as exc:
         t_kept = sim.record.time[-1] if sim.record.time else 0.0
         print(f"error: {exc}; output up to t = {t_kept:.6g} s "
               f"kept in {str(out)!r}", file=sys.stderr)
         return 3
+    except RunInterrupted as exc:
+        print(f"{exc}; output so far in {str(out)!r}; run the same command again to resume",
+              file=sys.stderr)
+        return 4
     except KeyboardInterrupt:
-        print(f"interrupted at step {sim.step}, t = {sim.t:.6g} s; output so far kept in "
-              f"{str(out)!r}", file=sys.stderr)
-        return 130
+        print(f"interrupted at step {sim.step}, t = {sim.t:.6g} s; output so far in "
+              f"{str(out)!r}; running the same command again resumes from the last "
+              "checkpoint, if any", file=sys.stderr)
+        return 4
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 4
+        return 5
+    if sim.status != "completed":
+        log.info("%s; run again with a larger run.max_steps (or 0) to continue", sim.status)
     log.info("done: %d steps in %.1f s wall (%.3g M particle-steps/s); wrote %s", sim.step,
              sim.wall_seconds, sim.particle_steps_per_second() / 1e6, out)
     return 0
+
+
+def _check_writable(directory: Path) -> None:
+    """Create ``directory`` if needed and write (then delete) a small file in it, so that
+    an unwritable directory or a full disk is reported before any computing."""
+    directory.mkdir(parents=True, exist_ok=True)
+    probe = directory / f".sph-write-test-{os.getpid()}"
+    try:
+        with open(probe, "wb") as fh:
+            fh.write(b"\0" * 4096)
+            fh.flush()
+            os.fsync(fh.fileno())
+    finally:
+        probe.unlink(missing_ok=True)
 
 
 if __name__ == "__main__":

@@ -36,6 +36,18 @@ def spec(default=dataclasses.MISSING, *, lo=None, hi=None, lo_open=False, hi_ope
     return field(default=default, metadata=meta)
 
 
+def show(value, limit: int = 80) -> str:
+    """A value as an error message shows it: ``repr`` cut to ``limit`` characters; an
+    integer too long to print (Python refuses beyond 4300 digits) by its size."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
+        return f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits"
+    try:
+        text = repr(value)
+    except (ValueError, RecursionError):  # huge integers inside containers, self-references
+        text = f"a {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
+
+
 def _range_text(meta) -> str:
     if meta.get("text"):
         return meta["text"]
@@ -60,31 +72,36 @@ def _check_scalar(key: str, value, tp, meta):
         return None
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ConfigError(key, f"expected a number {_range_text(meta)}, got {value!r}")
-        value = float(value)
+            raise ConfigError(key, f"expected a number {_range_text(meta)}, got {show(value)}")
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond the float range
+            raise ConfigError(key, f"must be finite, {_range_text(meta)}; got {show(value)}"
+                          ) from None
         if not math.isfinite(value):
-            raise ConfigError(key, f"must be finite, {_range_text(meta)}; got {value!r}")
+            raise ConfigError(key, f"must be finite, {_range_text(meta)}; got {show(value)}")
     elif tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(key, f"expected an integer {_range_text(meta)}, got {value!r}")
+            raise ConfigError(key, f"expected an integer {_range_text(meta)}, "
+                              f"got {show(value)}")
     elif tp is bool:
         if not isinstance(value, bool):
-            raise ConfigError(key, f"expected true or false, got {value!r}")
+            raise ConfigError(key, f"expected true or false, got {show(value)}")
         return value
     elif tp is str:
         if not isinstance(value, str):
-            raise ConfigError(key, f"expected a string, got {value!r}")
+            raise ConfigError(key, f"expected a string, got {show(value)}")
     choices = meta.get("choices")
     if choices is not None:
         if value not in choices:
-            raise ConfigError(key, f"must be {_range_text(meta)}; got {value!r}")
+            raise ConfigError(key, f"must be {_range_text(meta)}; got {show(value)}")
         return value
     if tp in (int, float):
         lo, hi = meta.get("lo"), meta.get("hi")
         bad = (lo is not None and (value < lo or (meta.get("lo_open") and value == lo))) or (
             hi is not None and (value > hi or (meta.get("hi_open") and value == hi)))
         if bad:
-            raise ConfigError(key, f"must be {_range_text(meta)}; got {value!r}")
+            raise ConfigError(key, f"must be {_range_text(meta)}; got {show(value)}")
     return value
 
 
@@ -93,14 +110,14 @@ def build(cls, data: Any, key: str = ""):
     if data is None:
         data = {}
     if not isinstance(data, dict):
-        raise ConfigError(key, f"expected a mapping of keys to values, got {data!r}")
+        raise ConfigError(key, f"expected a mapping of keys to values, got {show(data)}")
     hints = get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls)}
     for k in data:
         if k not in fields:
             allowed = ", ".join(sorted(fields))
             where = f"{key}.{k}" if key else str(k)
-            raise ConfigError(where, f"unknown key; allowed keys here: {allowed}")
+            raise ConfigError(where, f"unknown key {show(k)}; allowed keys here: {allowed}")
     values = {}
     for name, f in fields.items():
         sub = f"{key}.{name}" if key else name
@@ -128,7 +145,7 @@ def _convert(key, value, tp, meta):
     if origin is list:
         (item_tp,) = get_args(tp)
         if not isinstance(value, list):
-            raise ConfigError(key, f"expected a list, got {value!r}")
+            raise ConfigError(key, f"expected a list, got {show(value)}")
         return tuple(_convert(f"{key}[{i}]", v, item_tp, meta) for i, v in enumerate(value))
     if origin is not None and type(None) in get_args(tp):  # Optional[X]
         if value is None:
@@ -201,6 +218,15 @@ class Run:
                               doc="blow-up if a fluid density exceeds this times rho0")
     flush_seconds: float = spec(60.0, lo=0.0, lo_open=True, hi=1.0e6, unit="s",
                                 doc="wall time between rewrites of the partial output")
+    checkpoint_interval: float = spec(0.0, lo=0.0, hi=1.0e6, unit="s",
+                                      doc="simulated time between checkpoints; 0 = none by "
+                                      "simulated time")
+    checkpoint_wall_seconds: float = spec(600.0, lo=0.0, hi=1.0e7, unit="s",
+                                          doc="wall time between checkpoints; 0 = none by "
+                                          "wall time")
+    keep_checkpoints: bool = spec(False, doc="keep the checkpoints (and write a last one) "
+                                  "after a successful finish, e.g. to extend the run later "
+                                  "with a larger t_end; by default they are deleted")
 
     def check(self, key):
         if self.output_interval > self.t_end:
@@ -279,9 +305,28 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise ConfigError(text, "an override must name a key before '='")
     try:
         value = yaml.safe_load(raw)
-    except yaml.YAMLError as exc:
-        raise ConfigError(key, f"cannot parse value {raw!r}: {exc}") from None
+    except _YAML_ERRORS as exc:
+        raise ConfigError(key, f"cannot parse value {show(raw)}: {_yaml_problem(exc)}"
+                          ) from None
     return key, value
+
+
+#: what ``yaml.safe_load`` raises on bad input: syntax errors, and ValueError (or its
+#: subclasses) from constructing a scalar such as an impossible date ``2021-02-30`` or an
+#: integer of more than 4300 digits; RecursionError on absurdly deep nesting
+_YAML_ERRORS = (yaml.YAMLError, ValueError, RecursionError)
+
+
+def _yaml_problem(exc: BaseException) -> str:
+    mark = getattr(exc, "problem_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+    if isinstance(exc, yaml.YAMLError):
+        problem = getattr(exc, "problem", None) or "syntax error"
+    elif isinstance(exc, RecursionError):
+        problem = "nested too deeply"
+    else:
+        problem = f"unreadable value ({show(str(exc), 120)})"
+    return f"{problem}{where}"
 
 
 def apply_overrides(data: dict, overrides) -> dict:
@@ -308,16 +353,17 @@ def load_yaml(path: str | Path) -> dict:
     """Read a case file as a mapping, with a clear error on YAML syntax errors."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_bytes().decode("utf-8")
     except OSError as exc:
         raise ConfigError("", f"cannot read case file {str(path)!r}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        line = exc.object[: exc.start].count(b"\n") + 1
+        raise ConfigError("", f"{path} is not UTF-8 text: byte 0x{exc.object[exc.start]:02x} "
+                          f"at line {line} cannot be decoded") from None
     try:
         data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or "syntax error"
-        raise ConfigError("", f"{path} is not valid YAML{where}: {problem}") from None
+    except _YAML_ERRORS as exc:
+        raise ConfigError("", f"{path} is not valid YAML: {_yaml_problem(exc)}") from None
     if not isinstance(data, dict):
         raise ConfigError("", f"{path} must hold a mapping of sections (case, numerics, ...)")
     return data
@@ -332,17 +378,18 @@ def build_case(data: dict) -> CaseConfig:
     allowed = {f.name for f in dataclasses.fields(CaseConfig)}
     for k in data:
         if k not in allowed:
-            raise ConfigError(str(k), "unknown key; allowed top-level keys: "
+            raise ConfigError(str(k), f"unknown key {show(k)}; allowed top-level keys: "
                               + ", ".join(sorted(allowed)))
     name = data.get("case")
-    if name not in CASES:
-        raise ConfigError("case", f"must be one of {', '.join(sorted(CASES))}; got {name!r}")
+    if not isinstance(name, str) or name not in CASES:
+        raise ConfigError("case", f"must be one of {', '.join(sorted(CASES))}; "
+                          f"got {show(name)}")
     case = CASES[name]
     # defaults of the built-in case first, then the user's values on top
     merged = _deep_merge(case.defaults(), data)
     title = merged.get("title", name)
     if not isinstance(title, str):
-        raise ConfigError("title", f"expected a string, got {title!r}")
+        raise ConfigError("title", f"expected a string, got {show(title)}")
     cfg = CaseConfig(
         case=name,
         title=title,

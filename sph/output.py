@@ -35,6 +35,7 @@ __all__ = [
     "OutputWriteError",
     "VTKWriter",
     "build_dataset",
+    "content_digest",
     "load_registry",
     "read_dataset",
     "write_netcdf_atomic",
@@ -44,7 +45,12 @@ __all__ = [
 _ATTRIBUTE_KEYS = ("units", "long_name", "standard_name")
 
 #: Global attributes set by :func:`build_dataset` that ``attrs`` may not override.
-_RESERVED_GLOBAL_ATTRS = frozenset({"Conventions", "source", "history", "config"})
+_RESERVED_GLOBAL_ATTRS = frozenset({"Conventions", "source", "history", "config",
+                                    "content_sha256"})
+
+#: Global attribute holding the SHA-256 of a written file's content (see
+#: :func:`content_digest`); :func:`read_dataset` checks it.
+CHECKSUM_ATTR = "content_sha256"
 
 _DEFAULT_TITLE = "sph-flood simulation output"
 
@@ -345,9 +351,11 @@ def write_netcdf_atomic(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """Write a dataset to netCDF-4 so that ``path`` is either old or complete.
 
     The data go to a hidden temporary file ``.{name}.tmp-{pid}`` in the target
-    directory, which is flushed to disk and then renamed onto ``path`` with
-    :func:`os.replace` (atomic on POSIX). If anything fails, the temporary file
-    is removed and a file already at ``path`` is left untouched.
+    directory, which is read back, stamped with the SHA-256 of its content
+    (global attribute ``content_sha256``, checked by :func:`read_dataset`),
+    flushed to disk and then renamed onto ``path`` with :func:`os.replace`
+    (atomic on POSIX). If anything fails, the temporary file is removed and a
+    file already at ``path`` is left untouched.
 
     ``time`` is stored as float64; coordinates get no ``_FillValue``; numeric
     data variables are zlib-compressed at level 4.
@@ -383,6 +391,7 @@ def write_netcdf_atomic(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
         ds.to_netcdf(
             tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=_netcdf_encoding(ds)
         )
+        _add_checksum(tmp)
         _fsync_path(tmp)
         os.replace(tmp, path)
     except BaseException as exc:
@@ -422,11 +431,25 @@ def read_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
         If ``path`` does not exist.
     ValueError
         If the file exists but cannot be read as netCDF (truncated, corrupt,
-        not netCDF). The message names ``path``.
+        not netCDF), or its content does not match the ``content_sha256``
+        checksum stamped on it by :func:`write_netcdf_atomic`. The message
+        names ``path``. (The checksum attribute is not part of the returned
+        dataset; files without one are read unchecked.)
     """
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(errno.ENOENT, "no such netCDF file", str(path))
+    ds = _load(path)
+    stamp = ds.attrs.pop(CHECKSUM_ATTR, None)
+    if stamp is not None and str(stamp) != content_digest(ds):
+        raise ValueError(
+            f"{str(path)!r} is corrupt: its content does not match the checksum "
+            f"({CHECKSUM_ATTR}) written with it"
+        )
+    return ds
+
+
+def _load(path: Path) -> xr.Dataset:
     try:
         with xr.open_dataset(path, engine="netcdf4", decode_timedelta=False) as ds:
             return ds.load()
@@ -434,6 +457,42 @@ def read_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
         raise ValueError(
             f"{str(path)!r} is not a readable netCDF file (truncated or corrupt?): {exc}"
         ) from exc
+
+
+def _canonical(value: Any) -> bytes:
+    if isinstance(value, str):
+        return b"s" + value.encode("utf-8", "surrogatepass")
+    array = np.asarray(value)
+    if array.dtype.kind in "OSU":
+        return b"t" + "\x1f".join(str(v) for v in array.ravel()).encode("utf-8", "surrogatepass")
+    return f"n{array.dtype.str}{array.shape}".encode() + np.ascontiguousarray(array).tobytes()
+
+
+def content_digest(ds: xr.Dataset) -> str:
+    """SHA-256 of a dataset as read from a file: every variable (name, dimensions,
+    attributes, values) and every global attribute except ``content_sha256``."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for name in sorted(map(str, ds.variables)):
+        var = ds.variables[name]
+        h.update(b"\0v" + name.encode() + b"\0" + " ".join(map(str, var.dims)).encode())
+        for key in sorted(map(str, var.attrs)):
+            h.update(b"\0a" + key.encode() + b"\0" + _canonical(var.attrs[key]))
+        h.update(b"\0d" + _canonical(var.values))
+    for key in sorted(map(str, ds.attrs)):
+        if key != CHECKSUM_ATTR:
+            h.update(b"\0g" + key.encode() + b"\0" + _canonical(ds.attrs[key]))
+    return h.hexdigest()
+
+
+def _add_checksum(path: Path) -> None:
+    """Read a freshly written file back and stamp it with :func:`content_digest`."""
+    import netCDF4
+
+    digest = content_digest(_load(path))
+    with netCDF4.Dataset(path, mode="a") as nc:
+        nc.setncattr(CHECKSUM_ATTR, digest)
 
 
 # ---------------------------------------------------------------------------

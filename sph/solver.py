@@ -12,6 +12,8 @@ Plain Python that drives the numba kernels of the physics modules. One step:
 from __future__ import annotations
 
 import logging
+import signal
+import threading
 import time as wallclock
 from dataclasses import dataclass, field
 
@@ -42,6 +44,16 @@ class SimulationError(RuntimeError):
     def __init__(self, step: int, t: float, cause: str):
         self.step, self.t, self.cause = step, t, cause
         super().__init__(f"simulation stopped at step {step}, t = {t:.6g} s: {cause}")
+
+
+class RunInterrupted(RuntimeError):
+    """A run stopped by SIGINT or SIGTERM between two steps; ``checkpoint`` is the file
+    written to resume it (None when the run had no checkpoint directory)."""
+
+    def __init__(self, step: int, t: float, signal_name: str, checkpoint=None):
+        self.step, self.t, self.signal_name, self.checkpoint = step, t, signal_name, checkpoint
+        where = f"; checkpoint {str(checkpoint)!r}" if checkpoint is not None else ""
+        super().__init__(f"interrupted by {signal_name} at step {step}, t = {t:.6g} s{where}")
 
 
 @dataclass
@@ -115,6 +127,11 @@ class Simulation:
         self._zfloor = self.setup.bounds[2]
         self.wall_seconds = 0.0
         self.status = "not started"
+        #: simulated times of the next output sample, snapshot and checkpoint
+        self.next_output = self.next_vtk = 0.0
+        self.next_checkpoint = cfg.run.checkpoint_interval
+        #: the checkpoint this run resumed from (:func:`sph.checkpoint.restore`)
+        self.restored_from = None
 
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""
@@ -293,12 +310,31 @@ class Simulation:
         write_netcdf_atomic(self.dataset(), path)
 
     # ------------------------------------------------------------------ driver
-    def run(self, out_path=None, *, progress: bool = False, vtk_dir=None) -> Simulation:
+    def run(self, out_path=None, *, progress: bool = False, vtk_dir=None,
+            checkpoint_dir=None) -> Simulation:
         """Run to ``run.t_end`` (or ``run.max_steps``), writing ``out_path`` atomically.
 
         The partial output is rewritten every ``run.flush_seconds`` of wall time; on a
         blow-up or an interrupt the data up to that moment is written (global attribute
         ``status`` says what happened) and the exception propagates.
+
+        With ``checkpoint_dir`` (see :mod:`sph.checkpoint`) a checkpoint is written every
+        ``run.checkpoint_interval`` of simulated time and every
+        ``run.checkpoint_wall_seconds`` of wall time, when the run stops at
+        ``run.max_steps`` before ``t_end``, and on SIGINT or SIGTERM. A completed run
+        deletes its checkpoints unless ``run.keep_checkpoints`` is set (then it writes a
+        last one). A simulation restored from a checkpoint continues where it was.
+
+        Raises
+        ------
+        SimulationError
+            The run blew up (NaN, a particle left the domain, density out of band).
+        RunInterrupted
+            SIGINT or SIGTERM arrived (in the main thread); the run stopped after the step
+            in progress, with a checkpoint when it has a checkpoint directory. A second
+            signal raises KeyboardInterrupt at once.
+        sph.output.OutputWriteError
+            The output or a checkpoint could not be written.
         """
         run = self.cfg.run
         bar = _progress_bar(run.t_end) if progress else None
@@ -306,41 +342,76 @@ class Simulation:
         if vtk_dir is not None and run.vtk_interval > 0:
             from .output import VTKWriter
 
-            vtk = VTKWriter(vtk_dir, self.cfg.case)
-        t_wall0 = wallclock.perf_counter()
-        last_flush = t_wall0
-        next_out = 0.0
-        next_vtk = 0.0
+            resume_after = self.t if self.restored_from is not None else None
+            vtk = VTKWriter(vtk_dir, self.cfg.case, resume_after=resume_after)
+        t_wall0 = wallclock.perf_counter() - self.wall_seconds
+        last_flush = last_ckpt = wallclock.perf_counter()
         eps = 1e-12 * run.t_end
         self.status = "running"
+        pending = None
         try:
-            if self.step == 0:
-                self.evaluate()
-            while True:
-                if self.t >= next_out - eps:
-                    self.sample()
-                    next_out += run.output_interval
-                if vtk is not None and self.t >= next_vtk - eps:
-                    self._write_vtk(vtk)
-                    next_vtk += run.vtk_interval
-                if self.t >= run.t_end - eps or (run.max_steps and self.step >= run.max_steps):
-                    break
-                self.advance()
-                if self.step % run.check_interval == 0:
-                    self.check()
-                now = wallclock.perf_counter()
-                self.wall_seconds = now - t_wall0
-                if bar is not None:
-                    bar.update_to(self.t, self.particle_steps_per_second())
-                if out_path is not None and now - last_flush > run.flush_seconds:
+            with _StopSignals() as stop:
+                if self.step == 0 and self.restored_from is None:
+                    self.evaluate()
+                while True:
+                    if self.t >= self.next_output - eps:
+                        self.sample()
+                        self.next_output += run.output_interval
+                    if vtk is not None and self.t >= self.next_vtk - eps:
+                        self._write_vtk(vtk)
+                        self.next_vtk += run.vtk_interval
+                    if self.t >= run.t_end - eps:
+                        self.status = "completed"
+                        break
+                    if run.max_steps and self.step >= run.max_steps:
+                        self.status = (f"stopped at run.max_steps = {run.max_steps}, "
+                                       f"t = {self.t:.6g} s")
+                        break
+                    self.advance()
+                    if self.step % run.check_interval == 0:
+                        self.check()
+                    now = wallclock.perf_counter()
+                    self.wall_seconds = now - t_wall0
+                    if bar is not None:
+                        bar.update_to(self.t, self.particle_steps_per_second())
+                    if checkpoint_dir is not None and self._checkpoint_due(now - last_ckpt,
+                                                                           eps):
+                        self.checkpoint(checkpoint_dir)
+                        last_ckpt = wallclock.perf_counter()
+                    if out_path is not None and now - last_flush > run.flush_seconds:
+                        self.write(out_path)
+                        last_flush = now
+                    if stop.signal_name is not None:
+                        path = (self.checkpoint(checkpoint_dir) if checkpoint_dir is not None
+                                else None)
+                        raise RunInterrupted(self.step, self.t, stop.signal_name, path)
+                # a signal from here on is ignored: the run is done
+                if checkpoint_dir is not None and (self.status != "completed"
+                                                   or run.keep_checkpoints):
+                    self.checkpoint(checkpoint_dir)
+                if out_path is not None and self.record.time:
+                    self.wall_seconds = wallclock.perf_counter() - t_wall0
                     self.write(out_path)
-                    last_flush = now
-            self.status = "completed"
+                    out_path = None  # written: nothing left to do below
+                if checkpoint_dir is not None and self.status == "completed" and not (
+                        run.keep_checkpoints):
+                    from .checkpoint import remove_checkpoints
+
+                    remove_checkpoints(checkpoint_dir)  # only once the output is safe
         except SimulationError as exc:
             self.status = f"failed: {exc}"
+            pending = exc
             raise
-        except KeyboardInterrupt:
+        except RunInterrupted as exc:
+            self.status = str(exc)
+            pending = exc
+            raise
+        except KeyboardInterrupt as exc:
             self.status = f"interrupted at step {self.step}, t = {self.t:.6g} s"
+            pending = exc
+            raise
+        except BaseException as exc:
+            pending = exc
             raise
         finally:
             self.wall_seconds = wallclock.perf_counter() - t_wall0
@@ -349,14 +420,65 @@ class Simulation:
             if vtk is not None:
                 vtk.close()
             if out_path is not None and self.record.time:
-                self.write(out_path)
+                try:
+                    self.write(out_path)
+                except OSError as exc:
+                    if pending is None:
+                        raise
+                    log.error("%s", exc)  # keep the error that stopped the run
         return self
+
+    def _checkpoint_due(self, wall_since: float, eps: float) -> bool:
+        """Whether a checkpoint is due after this step (advances the simulated-time
+        schedule)."""
+        run = self.cfg.run
+        due = bool(run.checkpoint_wall_seconds) and wall_since >= run.checkpoint_wall_seconds
+        if run.checkpoint_interval > 0 and self.t >= self.next_checkpoint - eps:
+            due = True
+            while self.next_checkpoint <= self.t + eps:
+                self.next_checkpoint += run.checkpoint_interval
+        return due
+
+    def checkpoint(self, directory):
+        """Write a checkpoint of the current state (:func:`sph.checkpoint.write_checkpoint`)
+        into ``directory``; returns its path."""
+        from .checkpoint import write_checkpoint
+
+        return write_checkpoint(self, directory)
 
     def _write_vtk(self, vtk) -> None:
         p = self.parts
         vtk.write(self.t, p.x, p.z, {
             "velocity": np.column_stack([p.vx, p.vz]), "density": p.rho, "pressure": p.p,
             "kind": p.kind.astype(np.int32), "id": p.pid.astype(np.int32)})
+
+
+class _StopSignals:
+    """Within the block, SIGINT and SIGTERM only set :attr:`signal_name` (the run stops
+    cleanly after the step in progress); a second signal raises KeyboardInterrupt. Does
+    nothing outside the main thread, where Python cannot install handlers."""
+
+    def __init__(self):
+        self.signal_name = None
+        self._previous = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        if self.signal_name is not None:
+            raise KeyboardInterrupt
+        self.signal_name = signal.Signals(signum).name
+        log.warning("received %s: stopping after this step (send it again to stop at once)",
+                    self.signal_name)
+
+    def __exit__(self, *exc_info):
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+        return False
 
 
 def _progress_bar(t_end: float):

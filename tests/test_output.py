@@ -378,3 +378,68 @@ def test_vtk_writer_rejects_bad_field_shape(tmp_path):
     writer = VTKWriter(tmp_path, "p")
     with pytest.raises(ValueError, match="pressure"):
         writer.write(0.0, np.zeros(4), np.zeros(4), {"pressure": np.zeros(3)})
+
+
+# (h) content checksum ----------------------------------------------------------
+
+
+def test_written_file_carries_a_checksum_that_read_dataset_checks(tmp_path):
+    import netCDF4
+
+    path = write_netcdf_atomic(_sample_dataset(), tmp_path / "case.nc")
+    with netCDF4.Dataset(path) as nc:
+        stamp = nc.getncattr(output.CHECKSUM_ATTR)
+    assert len(stamp) == 64
+    ds = read_dataset(path)
+    assert output.CHECKSUM_ATTR not in ds.attrs  # a property of the file, not of the data
+    assert output.content_digest(ds) == stamp
+    # a dataset read back and written again gets a fresh, valid stamp
+    ds.attrs["title"] = "changed"
+    read_dataset(write_netcdf_atomic(ds, tmp_path / "again.nc"))
+
+
+@pytest.mark.parametrize("keep", [0.1, 0.5, 0.9, 0.99, -1])
+def test_truncated_file_is_refused_at_any_length(tmp_path, keep):
+    path = write_netcdf_atomic(_sample_dataset(), tmp_path / "case.nc")
+    data = path.read_bytes()
+    path.write_bytes(data[: int(len(data) * keep)] if keep > 0 else data[:-1])
+    with pytest.raises(ValueError, match="not a readable netCDF file") as info:
+        read_dataset(path)
+    assert str(path) in str(info.value)
+
+
+def test_changed_bytes_are_refused_or_harmless(tmp_path):
+    """Flip one byte at a time at 120 places across the file: every flip is refused or
+    leaves the content unchanged, never read as valid but different data."""
+    path = write_netcdf_atomic(_sample_dataset(), tmp_path / "case.nc")
+    data = path.read_bytes()
+    good = read_dataset(path)
+    refused = harmless = 0
+    for pos in range(3, len(data), len(data) // 120):
+        path.write_bytes(data[:pos] + bytes([data[pos] ^ 0x24]) + data[pos + 1:])
+        try:
+            ds = read_dataset(path)
+        except ValueError as exc:
+            assert str(path) in str(exc)
+            refused += 1
+            continue
+        assert ds.identical(good), pos
+        harmless += 1
+    assert refused > 0 and harmless > 0
+
+
+def test_corrupt_value_names_the_checksum(tmp_path):
+    import netCDF4
+
+    path = write_netcdf_atomic(_sample_dataset(), tmp_path / "case.nc")
+    with netCDF4.Dataset(path, mode="a") as nc:  # a change behind the writer's back
+        nc["heave"][3] = 99.0
+    with pytest.raises(ValueError, match="does not match the checksum") as info:
+        read_dataset(path)
+    assert str(path) in str(info.value)
+
+
+def test_file_without_checksum_is_read_unchecked(tmp_path):
+    path = tmp_path / "plain.nc"
+    _sample_dataset().to_netcdf(path)
+    assert read_dataset(path).sizes["time"] == 11

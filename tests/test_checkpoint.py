@@ -1,0 +1,608 @@
+"""Checkpoints and restarts: a run stopped (max_steps, SIGINT, SIGTERM, SIGKILL) and resumed
+gives the same numbers as an uninterrupted run, bit for bit; damaged or foreign checkpoints
+are skipped or refused; output that cannot be written is a clear error.
+
+Bit-identical: the checkpoint holds every particle array (both leapfrog levels and the
+time derivatives of the last evaluation, in the sorted order), the wall-group kinematics
+that evaluation used, the rigid-body and damage-opening states, the step counter (which
+schedules the MLS and Euler steps) and the sampling schedule; resuming restores them and
+does not evaluate again. Every kernel is a per-particle gather (no atomics) and the only
+reductions are serial, so the thread count does not change the results either.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sph.cases.base import load_defaults
+from sph.checkpoint import (
+    CheckpointError,
+    CheckpointMismatch,
+    NoCheckpoint,
+    checkpoint_dir,
+    checkpoint_files,
+    find_checkpoint,
+    load_checkpoint,
+    restore,
+    resume_or_start,
+    write_checkpoint,
+)
+from sph.cli import main
+from sph.config import ConfigError, apply_overrides, build_case
+from sph.output import OutputWriteError, read_dataset
+from sph.solver import RunInterrupted, Simulation
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# Tiny versions of the cases (a few hundred to two thousand particles, about a second each).
+TINY = {
+    "still_water": ("still_water", [
+        "numerics.dx=0.1", "geometry.tank_length=1.0", "geometry.depth=0.5",
+        "geometry.tank_height=0.8", "probes.pressure=[{name: b, x: 0.5, z: 0.0}]",
+        "probes.surface=[{name: c, x: 0.5}]", "run.t_end=0.1", "run.output_interval=0.01",
+    ]),
+    "floating_box": ("floating_box", [
+        "numerics.dx=0.025", "geometry.depth=0.3", "geometry.tank_length=1.0",
+        "geometry.tank_height=0.45", "geometry.box_width=0.2", "geometry.box_height=0.1",
+        "geometry.box_x=0.5", "geometry.heave_offset=0.01", "geometry.absorber.enabled=false",
+        "probes.surface=[{name: WP1, x: 0.25}]", "run.t_end=0.2", "run.output_interval=0.02",
+    ]),
+    "sloshing_delta": ("sloshing_rect", [
+        "numerics.dx=0.05", "numerics.density_filter=delta", "run.t_end=0.2",
+        "run.output_interval=0.02",
+    ]),
+    # a 3 m x 2 m hull in a 12 m tank; the opening appears at t1 = 0.157 s (step 141)
+    "damaged_ship": ("damaged_ship", [
+        "numerics.dx=0.25", "geometry.depth=3", "geometry.tank_length=12",
+        "geometry.tank_height=5", "geometry.ship_x=6", "geometry.absorber.enabled=false",
+        "geometry.hull={breadth: 3.0, depth: 2.0, draught: 1.0, bilge_radius: 0.3, "
+        "plating: 0.1, kg: 0.8, gyradius: 1.0}",
+        "geometry.wavemaker.amplitude=0.2", "geometry.wavemaker.omega=2.0",
+        "geometry.damage.time_periods=0.05", "probes.surface=[{name: WP1, x: 3}]",
+        "run.t_end=0.25", "run.output_interval=0.02",
+    ]),
+}
+
+
+def _cfg(name, extra=()):
+    case, overrides = TINY[name]
+    return build_case(apply_overrides(load_defaults(case), list(overrides) + list(extra)))
+
+
+_REFERENCE: dict[str, Simulation] = {}
+
+
+def _reference(name) -> Simulation:
+    """The uninterrupted run of a tiny case (computed once per session)."""
+    if name not in _REFERENCE:
+        _REFERENCE[name] = Simulation(_cfg(name)).run()
+    return _REFERENCE[name]
+
+
+def assert_same_series(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Every variable and coordinate equal bit for bit (NaN where NaN), same dtypes."""
+    assert sorted(a.variables) == sorted(b.variables)
+    for name in a.variables:
+        x, y = a[name].values, b[name].values
+        assert x.shape == y.shape, name
+        if x.dtype.kind in "OUS":  # labels: str in memory, object when read from a file
+            assert [str(v) for v in x.ravel()] == [str(v) for v in y.ravel()], name
+            continue
+        assert x.dtype == y.dtype, name
+        if x.dtype.kind == "f":
+            assert np.array_equal(x, y, equal_nan=True), name
+        else:
+            assert np.array_equal(x, y), name
+
+
+def _stop_and_resume(name, tmp_path, stop_step, **resume_kw):
+    """Run to ``stop_step`` with checkpoints, then resume in a fresh simulation."""
+    ckpt = tmp_path / "out.nc.ckpt"
+    first = Simulation(_cfg(name, [f"run.max_steps={stop_step}"]))
+    first.run(tmp_path / "first.nc", checkpoint_dir=ckpt)
+    assert first.step == stop_step and first.status.startswith("stopped at run.max_steps")
+    second = Simulation(_cfg(name, resume_kw.get("extra", ())))
+    path = resume_or_start(second, ckpt)
+    assert path == ckpt / f"step-{stop_step:010d}.npz"
+    assert second.step == stop_step and second.t == first.t
+    second.run(tmp_path / "out.nc", checkpoint_dir=ckpt)
+    return first, second
+
+
+# --------------------------------------------------------------------------- bit-identical
+
+
+@pytest.mark.parametrize("name", list(TINY))
+def test_stop_half_way_and_resume_is_bit_identical(name, tmp_path):
+    ref = _reference(name)
+    _, resumed = _stop_and_resume(name, tmp_path, ref.step // 2)
+    assert resumed.status == "completed" and resumed.step == ref.step
+    assert np.array_equal(resumed.parts.f, ref.parts.f)
+    assert np.array_equal(resumed.parts.i, ref.parts.i)
+    assert_same_series(resumed.dataset(), ref.dataset())
+    # and as written to disk
+    assert_same_series(read_dataset(tmp_path / "out.nc"), ref.dataset())
+    # a completed run deletes its checkpoints (run.keep_checkpoints = false)
+    assert not (tmp_path / "out.nc.ckpt").exists()
+
+
+def test_damaged_ship_resumes_before_and_after_the_opening(tmp_path):
+    ref = _reference("damaged_ship")
+    opening = ref.setup.opening
+    assert opening.is_open and ref.parts.n < Simulation(_cfg("damaged_ship")).parts.n
+    for stop in (100, 180):  # the opening appears at step 141
+        d = tmp_path / str(stop)
+        d.mkdir()
+        first, resumed = _stop_and_resume("damaged_ship", d, stop)
+        assert first.setup.opening.is_open == (stop > 141)
+        assert resumed.setup.opening.is_open and resumed.setup.opening.params[0] == 1.0
+        assert np.array_equal(resumed.parts.f, ref.parts.f)
+        assert_same_series(resumed.dataset(), ref.dataset())
+
+
+def test_checkpoint_round_trip_restores_every_state(tmp_path):
+    sim = Simulation(_cfg("floating_box", ["run.max_steps=57"])).run()
+    path = write_checkpoint(sim, tmp_path)
+    fresh = Simulation(_cfg("floating_box"))
+    restore(fresh, load_checkpoint(path), path)
+    assert np.array_equal(fresh.parts.f, sim.parts.f)
+    assert np.array_equal(fresh.parts.i, sim.parts.i)
+    assert np.array_equal(fresh.kin, sim.kin)
+    for a, b in zip(fresh.stateful, sim.stateful, strict=True):
+        sa, sb = a.get_state(), b.get_state()
+        assert sa.keys() == sb.keys() and {"q", "v", "v_old", "a"} <= sa.keys()
+        for key in sa:
+            assert np.array_equal(sa[key], sb[key]), key
+    for attr in ("t", "step", "dt", "volume0", "n_fluid", "next_output", "next_vtk",
+                 "next_checkpoint", "wall_seconds", "_warned_c0"):
+        assert getattr(fresh, attr) == getattr(sim, attr), attr
+    assert fresh.record.time == sim.record.time
+    assert_same_series(fresh.dataset(), sim.dataset())
+    assert fresh.restored_from == path
+
+
+def test_re_evaluating_after_restore_would_not_be_identical(tmp_path):
+    """Why the derivatives are stored: evaluating them again on resume uses the body's
+    newer acceleration in the wall-pressure extrapolation and changes the result."""
+    ref = _reference("floating_box")
+    ckpt = tmp_path / "ckpt"
+    Simulation(_cfg("floating_box", ["run.max_steps=300"])).run(checkpoint_dir=ckpt)
+    naive = Simulation(_cfg("floating_box"))
+    resume_or_start(naive, ckpt)
+    naive.evaluate()
+    naive.run()
+    assert not np.array_equal(naive.parts.f, ref.parts.f)
+
+
+def test_extend_a_finished_run_with_kept_checkpoints(tmp_path):
+    ckpt = tmp_path / "ckpt"
+    short = Simulation(_cfg("still_water", ["run.t_end=0.05", "run.keep_checkpoints=true"]))
+    short.run(checkpoint_dir=ckpt)
+    assert short.status == "completed"
+    assert [p.name for p in checkpoint_files(ckpt)] == [f"step-{short.step:010d}.npz"]
+    longer = Simulation(_cfg("still_water"))  # run.t_end = 0.1 may differ on resume
+    assert resume_or_start(longer, ckpt) is not None
+    longer.run(checkpoint_dir=ckpt)
+    assert_same_series(longer.dataset(), _reference("still_water").dataset())
+
+
+def test_checkpoints_by_simulated_time_keep_the_newest_two(tmp_path):
+    ckpt = tmp_path / "ckpt"
+    sim = Simulation(_cfg("still_water", ["run.checkpoint_interval=0.02", "run.max_steps=80"]))
+    sim.run(checkpoint_dir=ckpt)
+    files = checkpoint_files(ckpt)
+    assert len(files) == 2  # the last by simulated time and the one at max_steps
+    assert files[-1].name == "step-0000000080.npz"
+    arrays = load_checkpoint(files[0])  # the first step at or after t = 0.08 s
+    t, dt = float(arrays["t"]), float(arrays["dt"])
+    assert 0.08 <= t < 0.08 + dt
+    assert float(arrays["next_checkpoint"]) == pytest.approx(0.1)
+    assert not list(ckpt.glob(".*"))  # no temporary files left
+
+
+def test_vtk_snapshots_continue_after_resume(tmp_path):
+    overrides = ["run.vtk_interval=0.02"]
+    Simulation(_cfg("still_water", overrides)).run(vtk_dir=tmp_path / "ref")
+    ckpt = tmp_path / "ckpt"
+    Simulation(_cfg("still_water", overrides + ["run.max_steps=50"])).run(
+        vtk_dir=tmp_path / "vtk", checkpoint_dir=ckpt)
+    sim = Simulation(_cfg("still_water", overrides))
+    resume_or_start(sim, ckpt)
+    sim.run(vtk_dir=tmp_path / "vtk", checkpoint_dir=ckpt)
+    pvd = "still_water.pvd"
+    assert (tmp_path / "vtk" / pvd).read_text() == (tmp_path / "ref" / pvd).read_text()
+
+
+# --------------------------------------------------------------------------- damaged files
+
+
+def _two_checkpoints(tmp_path):
+    ckpt = tmp_path / "out.nc.ckpt"
+    Simulation(_cfg("still_water", ["run.checkpoint_interval=0.03", "run.max_steps=60"])).run(
+        checkpoint_dir=ckpt)
+    older, newest = checkpoint_files(ckpt)
+    return ckpt, older, newest
+
+
+@pytest.mark.parametrize("damage", ["truncated", "bit-flip", "empty", "not-an-archive"])
+def test_damaged_checkpoint_is_skipped_for_the_previous_one(tmp_path, caplog, damage):
+    ckpt, older, newest = _two_checkpoints(tmp_path)
+    data = newest.read_bytes()
+    if damage == "truncated":
+        newest.write_bytes(data[: len(data) * 2 // 3])
+    elif damage == "bit-flip":  # inside the particle data: only the checksum can tell
+        newest.write_bytes(data[:1000] + bytes([data[1000] ^ 0x01]) + data[1001:])
+    elif damage == "empty":
+        newest.write_bytes(b"")
+    else:
+        newest.write_text("not a checkpoint\n")
+    with pytest.raises(CheckpointError) as info:
+        load_checkpoint(newest)
+    assert str(newest) in str(info.value)
+    with caplog.at_level(logging.WARNING, logger="sph.checkpoint"):
+        sim = Simulation(_cfg("still_water"))
+        assert resume_or_start(sim, ckpt) == older
+    assert any(str(newest) in r.getMessage() and "skipping" in r.getMessage()
+               for r in caplog.records)
+    sim.run(checkpoint_dir=ckpt)  # the older checkpoint still leads to the same result
+    assert_same_series(sim.dataset(), _reference("still_water").dataset())
+
+
+def test_no_valid_checkpoint_starts_fresh_or_refuses(tmp_path, caplog):
+    ckpt, older, newest = _two_checkpoints(tmp_path)
+    for p in (older, newest):
+        p.write_bytes(p.read_bytes()[:100])
+    assert find_checkpoint(ckpt) is None
+    with pytest.raises(NoCheckpoint, match="no valid checkpoint"):
+        resume_or_start(Simulation(_cfg("still_water")), ckpt, "resume")
+    with caplog.at_level(logging.WARNING, logger="sph.checkpoint"):
+        sim = Simulation(_cfg("still_water"))
+        assert resume_or_start(sim, ckpt) is None
+    assert sim.step == 0 and sim.t == 0.0
+    assert any("starting from t = 0" in r.getMessage() for r in caplog.records)
+
+
+def test_checkpoint_of_another_config_is_refused_naming_the_key(tmp_path):
+    ckpt, _, _ = _two_checkpoints(tmp_path)
+    sim = Simulation(_cfg("still_water", ["numerics.alpha=0.05", "fluid.rho0=998"]))
+    with pytest.raises(CheckpointMismatch) as info:
+        resume_or_start(sim, ckpt)
+    exc = info.value
+    assert isinstance(exc, ConfigError)
+    assert exc.keys == ["fluid.rho0", "numerics.alpha"]
+    assert "numerics.alpha = 0.02 there, 0.05 here" in str(exc)
+    assert "--restart" in str(exc)
+    # keys that only say how long to run and what to write may change
+    ok = Simulation(_cfg("still_water", ["run.t_end=0.2", "numerics.threads=1",
+                                         "run.flush_seconds=5", "title=renamed"]))
+    assert resume_or_start(ok, ckpt) is not None
+
+
+def test_restart_mode_deletes_checkpoints(tmp_path):
+    ckpt, _, _ = _two_checkpoints(tmp_path)
+    sim = Simulation(_cfg("still_water"))
+    assert resume_or_start(sim, ckpt, "restart") is None
+    assert not ckpt.exists() and sim.step == 0
+
+
+def test_stale_temporary_file_of_a_killed_writer_is_removed(tmp_path):
+    ckpt, _, newest = _two_checkpoints(tmp_path)
+    stale = ckpt / f".step-0000000099.npz.tmp-{os.getpid() + 1}"
+    stale.write_bytes(newest.read_bytes()[:500])
+    assert resume_or_start(Simulation(_cfg("still_water")), ckpt) == newest
+    assert not stale.exists()
+
+
+# --------------------------------------------------------------------------- signals
+
+
+def _signal_at_step(monkeypatch, step, *signals):
+    """Send ``signals`` to this process when the run reaches ``step`` (at a check)."""
+    original = Simulation.check
+
+    def check(self):
+        original(self)
+        if self.step == step:
+            for sig in signals:
+                os.kill(os.getpid(), sig)
+
+    monkeypatch.setattr(Simulation, "check", check)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_signal_writes_checkpoint_and_partial_output(tmp_path, monkeypatch, sig):
+    _signal_at_step(monkeypatch, 40, sig)
+    ckpt = tmp_path / "out.nc.ckpt"
+    sim = Simulation(_cfg("sloshing_delta"))
+    handler = signal.getsignal(sig)
+    with pytest.raises(RunInterrupted) as info:
+        sim.run(tmp_path / "out.nc", checkpoint_dir=ckpt)
+    assert signal.getsignal(sig) == handler  # the run's handlers are removed again
+    exc = info.value
+    assert exc.step == 40 and exc.signal_name == sig.name
+    assert exc.checkpoint == ckpt / "step-0000000040.npz" and exc.checkpoint.exists()
+    ds = read_dataset(tmp_path / "out.nc")
+    assert ds.attrs["status"].startswith(f"interrupted by {sig.name} at step 40")
+    assert ds["time"].values[-1] <= exc.t
+    monkeypatch.undo()
+    resumed = Simulation(_cfg("sloshing_delta"))
+    resume_or_start(resumed, ckpt)
+    resumed.run(tmp_path / "out.nc", checkpoint_dir=ckpt)
+    assert_same_series(read_dataset(tmp_path / "out.nc"), _reference("sloshing_delta").dataset())
+
+
+def test_cli_signal_exits_4_and_second_signal_stops_at_once(tmp_path, monkeypatch, capsys,
+                                                            case_file):
+    path = case_file("still_water")
+    out = tmp_path / "out.nc"
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(TINY["still_water"][1])
+    _signal_at_step(monkeypatch, 30, signal.SIGTERM)
+    assert main(argv) == 4
+    err = capsys.readouterr().err
+    assert "interrupted by SIGTERM at step 30" in err and "run the same command again" in err
+    assert checkpoint_files(checkpoint_dir(out))[-1].name == "step-0000000030.npz"
+    # two signals: the second one stops at once (KeyboardInterrupt), still exit 4,
+    # the checkpoint of the first interruption stays usable
+    _signal_at_step(monkeypatch, 50, signal.SIGINT, signal.SIGINT)
+    assert main(argv) == 4
+    assert "interrupted at step 50" in capsys.readouterr().err
+    assert checkpoint_files(checkpoint_dir(out))[-1].name == "step-0000000030.npz"
+
+
+# --------------------------------------------------------------------------- command line
+
+
+def _sets(overrides):
+    out = []
+    for item in overrides:
+        out += ["--set", item]
+    return out
+
+
+@pytest.fixture
+def case_file(tmp_path, capsys):
+    def make(name):
+        assert main(["example", name]) == 0
+        path = tmp_path / f"{name}.yaml"
+        path.write_text(capsys.readouterr().out)
+        return path
+
+    return make
+
+
+def _wait_for(predicate, timeout=120.0):
+    end = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > end:
+            raise AssertionError("timed out")
+        time.sleep(0.002)
+
+
+def _child(argv, threads=1):
+    env = dict(os.environ, NUMBA_NUM_THREADS=str(threads), PYTHONPATH=str(ROOT))
+    return subprocess.Popen([sys.executable, "-m", "sph.cli"] + argv, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+LONGER = TINY["still_water"][1] + ["run.t_end=0.6", "run.checkpoint_interval=0.2"]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
+def test_cli_killed_process_resumes_to_the_same_result(tmp_path, case_file, caplog, capsys,
+                                                       sig):
+    """``sph run`` in a child process (two threads) is killed after its first checkpoint;
+    the same command run again (here, one thread) resumes and ends with the same file
+    contents as an uninterrupted run."""
+    path = case_file("still_water")
+    out = tmp_path / "killed" / "out.nc"
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(LONGER)
+    child = _child(argv, threads=2)
+    ckpt = checkpoint_dir(out)
+    try:
+        _wait_for(lambda: child.poll() is not None or checkpoint_files(ckpt))
+        child.send_signal(sig)
+        _, err = child.communicate(timeout=120)
+    finally:
+        child.kill()
+    if sig == signal.SIGKILL:
+        assert child.returncode == -signal.SIGKILL
+    else:
+        assert child.returncode == 4, err.decode()
+        assert b"interrupted by SIGTERM" in err
+        assert read_dataset(out).attrs["status"].startswith("interrupted by SIGTERM")
+    first = checkpoint_files(ckpt)[0]
+    assert first.name < "step-0000000540.npz"  # stopped before the end (540 steps)
+    with caplog.at_level(logging.INFO, logger="sph"):
+        assert main(argv) == 0, capsys.readouterr().err
+    resume = [r.getMessage() for r in caplog.records if "resuming from" in r.getMessage()]
+    assert len(resume) == 1 and "at t = 0.2" in resume[0] and str(ckpt) in resume[0]
+    assert not ckpt.exists()
+    ref_out = tmp_path / "ref" / "out.nc"
+    assert main(argv[:3] + [str(ref_out)] + argv[4:]) == 0
+    a, b = read_dataset(out), read_dataset(ref_out)
+    assert_same_series(a, b)
+    assert a.attrs["threads"] == 1 and a.attrs["status"] == "completed"
+
+
+def test_cli_restart_flags(tmp_path, case_file, caplog, capsys):
+    path = case_file("still_water")
+    out = tmp_path / "out.nc"
+    base = ["run", str(path), "-o", str(out), "--no-progress"]
+    sets = _sets(TINY["still_water"][1])
+    # --no-restart refuses to start from t = 0
+    assert main(base + ["--no-restart"] + sets) == 2
+    assert "no checkpoint to resume from" in capsys.readouterr().err
+    assert main(base + sets + ["--set", "run.max_steps=40"]) == 0
+    assert checkpoint_files(checkpoint_dir(out))
+    # --restart and --no-restart exclude each other
+    with pytest.raises(SystemExit):
+        main(base + ["--restart", "--no-restart"] + sets)
+    capsys.readouterr()
+    with caplog.at_level(logging.INFO, logger="sph"):
+        assert main(base + ["--restart"] + sets) == 0
+    assert not any("resuming" in r.getMessage() for r in caplog.records)
+    assert not checkpoint_dir(out).exists()
+    # a checkpoint of another configuration: exit 2, one line naming the key
+    assert main(base + sets + ["--set", "run.max_steps=40"]) == 0
+    capsys.readouterr()
+    assert main(base + sets + ["--set", "numerics.cfl=0.1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: numerics.cfl:") and len(err.strip().splitlines()) == 1
+    assert main(base + ["--no-restart"] + sets) == 0  # resumes
+
+
+def test_cli_unwritable_output_directory(tmp_path, case_file, capsys, monkeypatch):
+    path = case_file("still_water")
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    rc = main(["run", str(path), "-o", str(blocker / "out.nc"), "--no-progress"]
+              + _sets(TINY["still_water"][1]))
+    assert rc == 5
+    err = capsys.readouterr().err
+    assert err.startswith("error: cannot write to the output directory")
+    assert "nothing was computed" in err
+    assert blocker.read_text() == "x"
+
+
+@pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0,
+                    reason="root ignores directory permissions")
+def test_cli_read_only_output_directory(tmp_path, case_file, capsys):
+    path = case_file("still_water")
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    (locked / "old.nc").write_text("previous")
+    locked.chmod(0o500)
+    try:
+        rc = main(["run", str(path), "-o", str(locked / "old.nc"), "--no-progress"]
+                  + _sets(TINY["still_water"][1]))
+    finally:
+        locked.chmod(0o700)
+    assert rc == 5 and "cannot write" in capsys.readouterr().err
+    assert (locked / "old.nc").read_text() == "previous"
+
+
+def test_cli_disk_full_keeps_previous_files_and_resumes(tmp_path, case_file, capsys,
+                                                        monkeypatch):
+    """A full disk at the end of a run (simulated: writing fails with ENOSPC): exit 5, the
+    previous output file and the checkpoints are intact; once there is space again the
+    same command resumes."""
+    import errno
+
+    path = case_file("still_water")
+    out = tmp_path / "out.nc"
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(
+        TINY["still_water"][1] + ["run.checkpoint_interval=0.05"])
+    out.write_bytes(b"previous result")
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
+    assert main(argv) == 5
+    err = capsys.readouterr().err
+    assert "disk full" in err and str(out) in err
+    assert out.read_bytes() == b"previous result"
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+    kept = checkpoint_files(checkpoint_dir(out))
+    assert kept and load_checkpoint(kept[-1])
+    monkeypatch.undo()
+    assert main(argv) == 0
+    assert_same_series(read_dataset(out), _reference("still_water").dataset())
+
+
+def test_checkpoint_write_failure_keeps_previous_checkpoints(tmp_path, monkeypatch):
+    import errno
+
+    ckpt, older, newest = _two_checkpoints(tmp_path)
+    before = {p.name: p.read_bytes() for p in (older, newest)}
+    sim = Simulation(_cfg("still_water"))
+    resume_or_start(sim, ckpt)
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(np, "savez", full)
+    with pytest.raises(OutputWriteError, match="disk full"):
+        write_checkpoint(sim, ckpt)
+    assert {p.name: p.read_bytes() for p in ckpt.iterdir()} == before
+
+
+def test_blow_up_keeps_output_and_checkpoints(tmp_path, case_file, capsys):
+    """A blow-up (too large a time step) stops with step, time and cause; the output up to
+    that point is readable; the checkpoints written before stay (exit 3)."""
+    path = case_file("dam_break")
+    out = tmp_path / "dam.nc"
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets([
+        "numerics.dx=0.1", "numerics.cfl=0.5", "numerics.c_factor=3", "run.t_end=1.5",
+        "run.density_max=1.15", "run.checkpoint_interval=0.05"])
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert "simulation stopped at step 170, t = 0.599" in err and "density" in err
+    ds = read_dataset(out)
+    assert ds.attrs["status"].startswith("failed: simulation stopped at step 170")
+    assert 0.55 < ds["time"].values[-1] < 0.6
+    kept = checkpoint_files(checkpoint_dir(out))
+    assert kept and 0.5 < float(load_checkpoint(kept[-1])["t"]) < 0.6
+    # the blow-up checks may be loosened to carry on from the last checkpoint
+    assert main(argv + ["--set", "run.density_max=1.3", "--set", "run.t_end=0.7"]) == 0
+    assert read_dataset(out)["time"].values[-1] == pytest.approx(0.7, abs=0.011)
+
+
+# --------------------------------------------------------------------------- workflow
+
+
+SNAKEFILE = """\
+rule simulate:
+    input: "case.yaml"
+    output: "results/still.nc"
+    log: "logs/still.log"
+    shell: "{python} -m sph.cli run {{input}} -o {{output}} --no-progress {sets} 2> {{log}}"
+"""
+
+
+def test_snakemake_killed_then_rerun_resumes_the_case(tmp_path, case_file, capsys):
+    """A workflow killed during a case (SIGKILL to Snakemake and its job, as a pre-empted
+    node) and run again with ``--rerun-incomplete`` resumes the case from its checkpoint;
+    the log shows the resume time and the result equals an uninterrupted run's."""
+    pytest.importorskip("snakemake")
+    path = case_file("still_water")
+    work = tmp_path / "wf"
+    work.mkdir()
+    (work / "case.yaml").write_text(path.read_text())
+    sets = LONGER[:-2] + ["run.t_end=1.0", "run.checkpoint_interval=0.2"]
+    quoted = " ".join(f"--set '{s}'" for s in sets).replace("{", "{{").replace("}", "}}")
+    (work / "Snakefile").write_text(SNAKEFILE.format(python=sys.executable, sets=quoted))
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(ROOT))
+    smk = [sys.executable, "-m", "snakemake", "--cores", "1", "results/still.nc"]
+    wf = subprocess.Popen(smk, cwd=work, env=env, start_new_session=True,
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ckpt = work / "results" / "still.nc.ckpt"
+    try:
+        _wait_for(lambda: wf.poll() is not None or checkpoint_files(ckpt))
+        os.killpg(wf.pid, signal.SIGKILL)
+        wf.wait(timeout=60)
+    finally:
+        wf.kill()
+    assert wf.returncode == -signal.SIGKILL
+    assert checkpoint_files(ckpt)
+    for extra in (["--unlock"], ["--rerun-incomplete"]):
+        done = subprocess.run(smk + extra, cwd=work, env=env, capture_output=True, timeout=300)
+        assert done.returncode == 0, done.stderr.decode()[-3000:]
+    log = (work / "logs" / "still.log").read_text()
+    assert "resuming from checkpoint results/still.nc.ckpt/step-" in log
+    assert " at t = 0.2" in log
+    assert not ckpt.exists()
+    ref = tmp_path / "ref.nc"
+    argv = ["run", str(path), "-o", str(ref), "--no-progress"] + _sets(sets)
+    assert main(argv) == 0, capsys.readouterr().err
+    assert_same_series(read_dataset(work / "results" / "still.nc"), read_dataset(ref))
