@@ -13,6 +13,7 @@ from sph.hull import (
     HullConfig,
     cabin_area,
     flooded_draught,
+    flooded_equilibrium,
     hydrostatics,
     mid_shape,
     opening_bottom,
@@ -50,6 +51,34 @@ def test_box_hydrostatics_closed_form():
     expect = (b * d - w * (b - 2 * t) * t) / (b - w * (b - 2 * t))
     assert flooded_draught(box, w) == pytest.approx(expect, rel=1e-6)
     assert flooded_draught(box, 1.0) == math.inf  # every cabin open: it sinks
+
+
+def test_flooded_equilibrium_in_finite_tanks_box_closed_form():
+    """Box section, tanks of length L: each tank's water area is conserved, the cabin level
+    equals the damaged tank's level; all relations are linear in the keel sinkage s."""
+    box = HullConfig(bilge_radius=0.0)
+    b, d, t, w, L = box.breadth, box.draught, box.plating, 1 / 3, 70.0
+    bi = b - 2 * t
+
+    def balance(s):
+        di = d + s / (1 - b / L)
+        dd = (d + s + (bi * t - b * d) / L) / (1 - (b - bi) / L)
+        return (1 - w) * b * di + w * (b * dd - bi * (dd - t)) - b * d, di, dd
+
+    f0, f1 = balance(0.0)[0], balance(1.0)[0]
+    s = -f0 / (f1 - f0)
+    _, di, dd = balance(s)
+    eq = flooded_equilibrium(box, w, tank_length=L)
+    assert eq["heave"] == pytest.approx(-s, rel=1e-6)
+    assert eq["d_intact"] == pytest.approx(di, rel=1e-6)
+    assert eq["d_damaged"] == pytest.approx(dd, rel=1e-6)
+    assert eq["flood"] == pytest.approx(bi * (dd - t), rel=1e-6)
+    # the open sea is the lost-buoyancy draught; a longer tank approaches it
+    sea = flooded_equilibrium(box, w)
+    assert -sea["heave"] + d == pytest.approx(flooded_draught(box, w), rel=1e-9)
+    far = flooded_equilibrium(box, w, tank_length=1e6)
+    assert far["heave"] == pytest.approx(sea["heave"], rel=1e-4)
+    assert abs(eq["heave"]) < abs(sea["heave"])  # the damaged tank's level drops
 
 
 def test_sdf_sign_and_distance():
