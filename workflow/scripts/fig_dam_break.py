@@ -47,6 +47,7 @@ def main(out: str, runs: list[str]) -> None:
 
 if __name__ == "__main__":
     if "snakemake" in globals():
-        main(snakemake.output[0], list(snakemake.input))  # noqa: F821
+        sm = globals()["snakemake"]
+        main(sm.output[0], list(sm.input))
     else:
         main(sys.argv[1], sys.argv[2:])
