@@ -167,6 +167,14 @@ class _Sweep:
         return self.t_end >= self.t2 + self.period
 
 
+def _judged(fid: str, statement: str, paper: str, measured: str, holds: bool,
+            values) -> Finding:
+    """A measured finding; a measure that came out NaN (e.g. a window the runs do not
+    cover) decides nothing."""
+    finite = all(np.isfinite(v) for v in values)
+    return Finding(fid, statement, paper, measured, bool(holds) if finite else None)
+
+
 def _fmt(values: Mapping[str, float], sweep: _Sweep, unit: str = "", digits: int = 3) -> str:
     return "; ".join(f"{sweep.label(c)}: {v:.{digits}g}{unit}" for c, v in values.items())
 
@@ -216,8 +224,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     else:
         amp = {c: amplitude(s.steady(c, "roll")) for c in intact[:1] + damaged}
         holds = all(amp[c] < amp[intact[0]] for c in damaged)
-        out.append(Finding("F1", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
-                           holds))
+        out.append(_judged("F1", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
+                           holds, amp.values()))
 
     # F2: first Q/V peak grows with opening size
     st, pp = "The first peak of Q/V grows with the opening size", "Sec. IV B, Fig. 13"
@@ -228,8 +236,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         vals = {c: v for c, (_, v) in peaks.items()}
         text = "; ".join(f"{s.label(c)}: {v:.3g} at t/T = {tp / s.period:.2f}"
                          for c, (tp, v) in peaks.items())
-        out.append(Finding("F2", st, pp, "first Q/V peak: " + text,
-                           _increasing(list(vals.values()))))
+        out.append(_judged("F2", st, pp, "first Q/V peak: " + text,
+                           _increasing(list(vals.values())), vals.values()))
 
     # F3: the damaged ship settles lower than the intact one
     st, pp = ("After damage the ship heaves about a lower equilibrium than the intact ship",
@@ -241,7 +249,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     else:
         mean = {c: float(np.nanmean(s.steady(c, "heave"))) for c in intact[:1] + damaged}
         holds = all(mean[c] < mean[intact[0]] for c in damaged)
-        out.append(Finding("F3", st, pp, "mean heave after t2 (m): " + _fmt(mean, s), holds))
+        out.append(_judged("F3", st, pp, "mean heave after t2 (m): " + _fmt(mean, s), holds,
+                           mean.values()))
 
     # F4: sloshing wave in the damaged cabin smaller for larger openings
     st, pp = ("The sloshing wave in the damaged cabin (W2) after t2 is lower for larger "
@@ -252,8 +261,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         out.append(Finding("F4", st, pp, steady_note, None))
     else:
         amp = {c: amplitude(s.steady(c, "probe_elevation", "W2")) for c in damaged}
-        out.append(Finding("F4", st, pp, "W2 amplitude after t2 (m): " + _fmt(amp, s),
-                           _decreasing(list(amp.values()))))
+        out.append(_judged("F4", st, pp, "W2 amplitude after t2 (m): " + _fmt(amp, s),
+                           _decreasing(list(amp.values())), amp.values()))
 
     # F5: head-wave initial inflow faster than back-wave
     heads = [c for c in side if s.cases[c]["side"] == "head" and s.cases[c]["opening"] > 0]
@@ -265,8 +274,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     else:
         rate = {c: inflow_rate(s.t, s.series(c, "flood_volume"), s.t1, s.period)
                 for c in backs[:1] + heads[:1]}
-        out.append(Finding("F5", st, pp, "mean inflow rate over [t1, t1 + T/2] (m2/s): "
-                           + _fmt(rate, s), rate[heads[0]] > rate[backs[0]]))
+        out.append(_judged("F5", st, pp, "mean inflow rate over [t1, t1 + T/2] (m2/s): "
+                           + _fmt(rate, s), rate[heads[0]] > rate[backs[0]], rate.values()))
 
     # F6: back-wave roll larger at dynamic equilibrium
     st, pp = ("At dynamic equilibrium the ship rolls more with the opening on the back side "
@@ -277,8 +286,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         out.append(Finding("F6", st, pp, steady_note, None))
     else:
         amp = {c: amplitude(s.steady(c, "roll")) for c in backs[:1] + heads[:1]}
-        out.append(Finding("F6", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
-                           amp[backs[0]] > amp[heads[0]]))
+        out.append(_judged("F6", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
+                           amp[backs[0]] > amp[heads[0]], amp.values()))
 
     # F7: the largest roll after damage is away from the opening
     st, pp = ("The largest roll angle after damage is towards the side opposite the opening",
@@ -294,8 +303,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
             # roll > 0 heels towards +x; a back opening faces +x, a head opening -x
             away = -1.0 if s.cases[c]["side"] == "back" else 1.0
             ok &= ext[c] * away > 0
-        out.append(Finding("F7", st, pp, "largest roll after t1 (deg, + towards the waves' "
-                           "travel): " + _fmt(ext, s), ok))
+        out.append(_judged("F7", st, pp, "largest roll after t1 (deg, + towards the waves' "
+                           "travel): " + _fmt(ext, s), ok, ext.values()))
 
     # F8: near-minimum roll at fill 50 %
     st, pp = ("The roll after t2 is near its minimum at the fill ratio η = 50 %",
@@ -308,9 +317,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     else:
         amp = {c: amplitude(s.steady(c, "roll")) for c in fill}
         low = min(amp.values())
-        out.append(Finding("F8", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s)
+        out.append(_judged("F8", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s)
                            + f" (near: within {100 * NEAR_MINIMUM:g} % of the smallest)",
-                           amp[half[0]] <= (1.0 + NEAR_MINIMUM) * low))
+                           amp[half[0]] <= (1.0 + NEAR_MINIMUM) * low, amp.values()))
 
     # F9: flood-volume fluctuation about 10 % of its maximum
     st, pp = ("After t2 the flood volume fluctuates by about 10 % of its maximum",
@@ -322,10 +331,10 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     else:
         fl = {c: fluctuation(s.steady(c, "flood_volume")) for c in damaged}
         lo, hi = FLUCTUATION_BAND
-        out.append(Finding("F9", st, pp, "(max - min) / max of Q after t2: "
+        out.append(_judged("F9", st, pp, "(max - min) / max of Q after t2: "
                            + _fmt({c: 100 * v for c, v in fl.items()}, s, " %")
                            + f" (about 10 %: {100 * lo:g}-{100 * hi:g} %)",
-                           all(lo <= v <= hi for v in fl.values())))
+                           all(lo <= v <= hi for v in fl.values()), fl.values()))
 
     # F10: flood-volume fluctuation decreases with fill ratio
     st, pp = ("The flood-volume fluctuation decreases as the cargo fill ratio grows",
@@ -336,9 +345,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         out.append(Finding("F10", st, pp, steady_note, None))
     else:
         fl = {c: fluctuation(s.steady(c, "flood_volume")) for c in fill}
-        out.append(Finding("F10", st, pp, "(max - min) / max of Q after t2: "
+        out.append(_judged("F10", st, pp, "(max - min) / max of Q after t2: "
                            + _fmt({c: 100 * v for c, v in fl.items()}, s, " %"),
-                           _decreasing(list(fl.values()))))
+                           _decreasing(list(fl.values())), fl.values()))
 
     # F11: sloshing in the liquid cabins smaller for larger fill ratios
     st, pp = ("The sloshing wave in the liquid cabins (W1) is lower for larger fill ratios",
@@ -350,8 +359,8 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         out.append(Finding("F11", st, pp, steady_note, None))
     else:
         amp = {c: amplitude(s.steady(c, "probe_elevation", "W1")) for c in filled}
-        out.append(Finding("F11", st, pp, "W1 amplitude after t2 (m): " + _fmt(amp, s),
-                           _decreasing(list(amp.values()))))
+        out.append(_judged("F11", st, pp, "W1 amplitude after t2 (m): " + _fmt(amp, s),
+                           _decreasing(list(amp.values())), amp.values()))
 
     # F12: heave amplitude slightly larger for the head-wave case
     st, pp = ("The wave direction changes the heave only slightly; the head-wave case "
@@ -364,9 +373,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         amp = {c: amplitude(s.steady(c, "heave")) for c in backs[:1] + heads[:1]}
         ratio = amp[heads[0]] / amp[backs[0]] if amp[backs[0]] > 0 else math.inf
         lo, hi = SLIGHTLY_LARGER
-        out.append(Finding("F12", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s)
+        out.append(_judged("F12", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s)
                            + f"; head / back = {ratio:.3f} (slightly larger: {lo:g}-{hi:g})",
-                           lo <= ratio <= hi))
+                           lo <= ratio <= hi, amp.values()))
     return out
 
 

@@ -29,6 +29,23 @@ TABLE_II_ROLL = 1.06
 TABLE_II_HEAVE = 1.28
 
 
+def frequency(t, y) -> tuple[float, float]:
+    """:func:`sph.analysis.oscillation_frequency`, or NaN when the record is too short."""
+    try:
+        return oscillation_frequency(t, y)
+    except ValueError:
+        return float("nan"), float("nan")
+
+
+def steady_wave(t, eta, omega: float, window) -> dict:
+    """:func:`sph.analysis.wave_statistics`, or NaN values when the window is too short."""
+    try:
+        return wave_statistics(t, eta, omega, tuple(window))
+    except ValueError:
+        nan = float("nan")
+        return dict(amplitude=nan, mean=nan, period=nan, height=nan)
+
+
 def _row(target, run, quantity, measured, reference, unit, source, error=None) -> dict:
     if error is None and reference not in (None, 0) and np.isfinite(measured):
         error = measured / reference - 1.0
@@ -51,7 +68,7 @@ def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]
             if probe not in ds["probe"].values:
                 continue
             eta = ds["probe_elevation"].sel(probe=probe).values
-            st = wave_statistics(t, eta, omega, tuple(window))
+            st = steady_wave(t, eta, omega, window)
             label = f"{run} (dx = {dx:g} m = {dx / a:.2f} A)"
             rows.append(_row("wave_tank", label, f"amplitude at {probe}", st["amplitude"], a,
                              "m", "linear flap theory"))
@@ -87,7 +104,7 @@ def sloshing(runs: Mapping[str, object]) -> list[dict]:
     rows = []
     for run, ds in runs.items():
         fill = float(ds.attrs["fill"])
-        omega, _ = oscillation_frequency(ds["time"].values, ds["centre_of_mass_x"].values)
+        omega, _ = frequency(ds["time"].values, ds["centre_of_mass_x"].values)
         ref = TABLE_II_SLOSHING.get(round(fill, 6))
         rows.append(_row("sloshing", f"{run} (fill {100 * fill:g} %, dx = "
                          f"{float(ds.attrs['dx']):g} m)", "first sloshing frequency", omega,
@@ -100,7 +117,7 @@ def decay(runs: Mapping[str, object]) -> list[dict]:
     rows = []
     for run, ds in runs.items():
         name, ref = ("roll", TABLE_II_ROLL) if run == "roll" else ("heave", TABLE_II_HEAVE)
-        omega, zeta = oscillation_frequency(ds["time"].values, ds[name].values)
+        omega, zeta = frequency(ds["time"].values, ds[name].values)
         label = f"{run} (dx = {float(ds.attrs['dx']):g} m)"
         rows.append(_row("decay", label, f"{name} natural frequency", omega, ref, "rad/s",
                          "Table II"))

@@ -1,6 +1,5 @@
 """Write the case file of one run (the rule's ``params.document``) as YAML."""
 
-from __future__ import annotations
 
 import sys
 

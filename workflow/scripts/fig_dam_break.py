@@ -5,7 +5,6 @@ Usable by a Snakemake rule (``snakemake.input``/``snakemake.output``) or from th
     python workflow/scripts/fig_dam_break.py OUT.png RUN1.nc [RUN2.nc ...]
 """
 
-from __future__ import annotations
 
 import sys
 

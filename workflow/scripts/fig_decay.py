@@ -6,7 +6,6 @@ Each run is a ``ship_decay`` output; a run with a non-zero initial heel is drawn
 the others as heave. Panel titles give the fitted frequency and damping ratio.
 """
 
-from __future__ import annotations
 
 import sys
 
@@ -15,9 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from sph.analysis import oscillation_frequency  # noqa: E402
 from sph.output import read_dataset  # noqa: E402
-from sph.validation import TABLE_II_HEAVE, TABLE_II_ROLL  # noqa: E402
+from sph.validation import TABLE_II_HEAVE, TABLE_II_ROLL, frequency  # noqa: E402
 
 
 def main(out: str, runs: list[str]) -> None:
@@ -28,7 +26,7 @@ def main(out: str, runs: list[str]) -> None:
         name, ref, unit = ("roll", TABLE_II_ROLL, "deg") if roll else ("heave", TABLE_II_HEAVE,
                                                                        "m")
         t, y = ds["time"].values, ds[name].values
-        omega, zeta = oscillation_frequency(t, y)
+        omega, zeta = frequency(t, y)
         ax.plot(t, y, lw=1)
         ax.set_ylabel(f"{name} ({unit})")
         ax.set_title(f"{name} decay, dx = {float(ds.attrs['dx']):g} m: omega = {omega:.3f} "

@@ -8,7 +8,6 @@ experimental series come from ``shared/validation-data/hadzic2005`` (or
 ``$SPH_VALIDATION_DATA``).
 """
 
-from __future__ import annotations
 
 import sys
 from pathlib import Path

@@ -10,7 +10,6 @@ Vertical lines: the damage time t1 and the start of the dynamic equilibrium t2.
     python workflow/scripts/fig_ship.py OUT.png SWEEP.nc roll,heave [CASE ...]
 """
 
-from __future__ import annotations
 
 import logging
 import sys

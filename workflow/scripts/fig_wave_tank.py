@@ -8,7 +8,6 @@ steady window (the flap's start-up transient is outside linear theory). Panel ti
 steady amplitude of every run.
 """
 
-from __future__ import annotations
 
 import sys
 
@@ -19,7 +18,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import harmonic_fit, wave_statistics  # noqa: E402
+from sph.analysis import harmonic_fit  # noqa: E402
+from sph.validation import steady_wave  # noqa: E402
 
 WINDOW = (40.0, 60.0)
 
@@ -36,7 +36,7 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
             eta = ds.probe_elevation.sel(probe=probe).values
             omega = float(ds.attrs["omega"])
             a = float(ds.attrs["theory_amplitude"])
-            s = wave_statistics(t, eta, omega, window)
+            s = steady_wave(t, eta, omega, window)
             dx = float(ds.attrs["dx"])
             ax.plot(t, eta, lw=1, label=f"SPH dx = {dx:g} m = {dx / a:.2f} A")
             notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m")

@@ -3,7 +3,6 @@
 Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``.
 """
 
-from __future__ import annotations
 
 import csv
 import logging

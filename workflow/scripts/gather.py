@@ -4,7 +4,6 @@ Rule ``gather``: ``snakemake.input.nc`` (one file per case, in the order of
 ``snakemake.params.cases``) -> ``snakemake.output.nc``.
 """
 
-from __future__ import annotations
 
 import logging
 

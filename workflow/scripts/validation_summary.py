@@ -4,7 +4,6 @@ Rule ``validation_summary``: ``snakemake.input.<target>`` (the runs of each targ
 order of ``snakemake.params.runs[target]``) -> ``snakemake.output.csv``, ``.html``.
 """
 
-from __future__ import annotations
 
 import csv
 import html
