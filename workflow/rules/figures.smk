@@ -17,6 +17,8 @@ rule ship_figure:
         group=lambda w: SHIP_FIGURES[w.figure][0],
         series=lambda w: SHIP_FIGURES[w.figure][1],
         t2_periods=SWEEP_CFG["t2_periods"],
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/figures/{figure}.log",
     script:
@@ -38,6 +40,8 @@ rule overview_figure:
         group="all",
         series=["roll", "heave", "flood_ratio", "W2"],
         t2_periods=SWEEP_CFG["t2_periods"],
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/figures/overview.log",
     script:

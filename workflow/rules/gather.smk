@@ -10,6 +10,8 @@ rule gather:
     params:
         cases=list(CASES.values()),
         attrs=sweep_attrs(),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/gather.log",
     script:
@@ -31,6 +33,8 @@ rule findings:
         groups=GROUPS,
         t2_periods=SWEEP_CFG["t2_periods"],
         title=SWEEP_CFG["title"],
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/findings.log",
     script:

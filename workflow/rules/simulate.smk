@@ -20,6 +20,8 @@ rule case_file:
         "results/{sweep}/cases/{case}.yaml",
     params:
         document=ship_document,
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/case_file/{case}.log",
     localrule: True
@@ -32,6 +34,8 @@ rule simulate_case:
         case="results/{sweep}/cases/{case}.yaml",
     output:
         nc="results/{sweep}/cases/{case}.nc",
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/{sweep}/logs/simulate/{case}.log",
     benchmark:
@@ -47,6 +51,8 @@ rule validation_case_file:
         "results/validation/{preset}/{target}/{run}.yaml",
     params:
         document=validation_document,
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/case_file/{target}/{run}.log",
     localrule: True
@@ -59,6 +65,8 @@ rule simulate_validation:
         case="results/validation/{preset}/{target}/{run}.yaml",
     output:
         nc="results/validation/{preset}/{target}/{run}.nc",
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/simulate/{target}/{run}.log",
     benchmark:

@@ -17,6 +17,8 @@ rule validation_summary:
         runs={target: list(runs) for target, runs in VALIDATION.items()},
         window=lambda w: SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/validation_summary.log",
     script:
@@ -36,6 +38,8 @@ rule validation_figure_wave_tank:
     params:
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/figures/fig07_wave_tank.log",
     script:
@@ -55,6 +59,8 @@ rule validation_figure_sloshing:
     params:
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/figures/fig_sloshing.log",
     script:
@@ -74,6 +80,8 @@ rule validation_figure_decay:
     params:
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/figures/fig_decay.log",
     script:
@@ -93,6 +101,8 @@ rule validation_figure_floating_box:
     params:
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/figures/fig_floating_box.log",
     script:
@@ -112,6 +122,8 @@ rule validation_figure_dam_break:
     params:
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    conda:
+        "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/figures/fig_dam_break.log",
     script:
