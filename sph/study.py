@@ -544,7 +544,7 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         out["time"].attrs = dict(ds["time"].attrs)
         for name in CASE_SCALARS:
             if name in ds.attrs:
-                out[name] = float(ds.attrs[name])
+                out[name] = ds.attrs[name]  # int (steps, particles) or float
                 out[name].attrs = _cf_attrs(name)
         out["case_config"] = str(ds.attrs.get("config", ""))
         out["case_config"].attrs = _cf_attrs("case_config")
