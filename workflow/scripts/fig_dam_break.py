@@ -5,7 +5,6 @@ Usable by a Snakemake rule (``snakemake.input``/``snakemake.output``) or from th
     python workflow/scripts/fig_dam_break.py OUT.png RUN1.nc [RUN2.nc ...]
 """
 
-from __future__ import annotations
 
 import sys
 
@@ -47,6 +46,7 @@ def main(out: str, runs: list[str]) -> None:
 
 if __name__ == "__main__":
     if "snakemake" in globals():
-        main(snakemake.output[0], list(snakemake.input))  # noqa: F821
+        sm = globals()["snakemake"]
+        main(sm.output[0], list(sm.input))
     else:
         main(sys.argv[1], sys.argv[2:])

@@ -7,7 +7,6 @@ measured frequency, linear theory for a rectangular tank of the same width and d
 for the U-shaped cabin the paper's Table II value.
 """
 
-from __future__ import annotations
 
 import sys
 
@@ -17,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import oscillation_frequency  # noqa: E402
+from sph.validation import frequency  # noqa: E402
 
 TABLE_II = {0.25: 0.87, 0.5: 1.12, 0.75: 1.26}  # Cao et al. (2019), U-shaped cabin, rad/s
 
@@ -27,7 +26,7 @@ def main(out: str, runs: list[str]) -> None:
     for ax, path in zip(axes[:, 0], runs, strict=True):
         ds = xr.open_dataset(path)
         t, xc = ds.time.values, ds.centre_of_mass_x.values
-        omega, _ = oscillation_frequency(t, xc)
+        omega, _ = frequency(t, xc)
         theory = float(ds.attrs["linear_frequency_rect"])
         fill = float(ds.attrs["fill"])
         text = (f"{ds.attrs['case']}, fill {fill:.0%}, dx = {ds.attrs['dx']:g} m: "
@@ -45,6 +44,7 @@ def main(out: str, runs: list[str]) -> None:
 
 if __name__ == "__main__":
     if "snakemake" in globals():
-        main(snakemake.output[0], list(snakemake.input))  # noqa: F821
+        sm = globals()["snakemake"]
+        main(sm.output[0], list(sm.input))
     else:
         main(sys.argv[1], sys.argv[2:])

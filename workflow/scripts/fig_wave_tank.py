@@ -8,7 +8,6 @@ steady window (the flap's start-up transient is outside linear theory). Panel ti
 steady amplitude of every run.
 """
 
-from __future__ import annotations
 
 import sys
 
@@ -19,12 +18,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import harmonic_fit, wave_statistics  # noqa: E402
+from sph.analysis import harmonic_fit  # noqa: E402
+from sph.validation import steady_wave  # noqa: E402
 
 WINDOW = (40.0, 60.0)
 
 
-def main(out: str, runs: list[str]) -> None:
+def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> None:
     sets = [xr.open_dataset(p) for p in runs]
     sets.sort(key=lambda d: -float(d.attrs["dx"]))
     probes = [p for p in ("WP1", "WP2") if p in sets[0].probe.values]
@@ -36,17 +36,17 @@ def main(out: str, runs: list[str]) -> None:
             eta = ds.probe_elevation.sel(probe=probe).values
             omega = float(ds.attrs["omega"])
             a = float(ds.attrs["theory_amplitude"])
-            s = wave_statistics(t, eta, omega, WINDOW)
+            s = steady_wave(t, eta, omega, window)
             dx = float(ds.attrs["dx"])
             ax.plot(t, eta, lw=1, label=f"SPH dx = {dx:g} m = {dx / a:.2f} A")
             notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m")
         finest = sets[-1]
         t = finest.time.values
-        z, _ = harmonic_fit(t[t >= WINDOW[0]], finest.probe_elevation.sel(probe=probe).values[
-            t >= WINDOW[0]], omega)
+        z, _ = harmonic_fit(t[t >= window[0]], finest.probe_elevation.sel(probe=probe).values[
+            t >= window[0]], omega)
         ax.plot(t, a * np.cos(omega * t + np.angle(z)), "k--", lw=1,
                 label=f"linear theory, A = {a:.3f} m")
-        ax.axvspan(*WINDOW, color="0.92", zorder=-1)
+        ax.axvspan(*window, color="0.92", zorder=-1)
         ax.set(ylabel=f"$\\eta$ at {probe} (m)",
                title=f"{probe}: steady amplitude " + ", ".join(notes))
         ax.legend(fontsize=8, loc="lower left", ncol=2)
@@ -59,6 +59,7 @@ def main(out: str, runs: list[str]) -> None:
 
 if __name__ == "__main__":
     if "snakemake" in globals():
-        main(snakemake.output[0], list(snakemake.input))  # noqa: F821
+        sm = globals()["snakemake"]
+        main(sm.output[0], list(sm.input), tuple(sm.params.window))
     else:
         main(sys.argv[1], sys.argv[2:])

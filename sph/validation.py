@@ -1,0 +1,214 @@
+"""Validation-ladder metrics (DESIGN §6) measured on the workflow's validation runs.
+
+Each function takes the runs of one target (opened netCDF datasets) and returns rows
+``target, run, quantity, measured, reference, unit, error, source``: ``error`` is the relative
+difference ``measured / reference - 1`` where a reference value exists, or a normalised RMS
+difference for a time series compared with an experiment.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .analysis import (
+    koshizuka_front,
+    oscillation_frequency,
+    reflection_coefficient,
+    validation_data_dir,
+    wave_statistics,
+)
+
+#: Table II of Cao et al. (2019): first sloshing frequency of the U-shaped cabin, rad/s
+TABLE_II_SLOSHING = {0.25: 0.87, 0.5: 1.12, 0.75: 1.26}
+#: Table II: roll and heave natural frequencies of the ship, rad/s (omega_w = 1.0 rad/s)
+TABLE_II_ROLL = 1.06
+TABLE_II_HEAVE = 1.28
+
+
+def frequency(t, y) -> tuple[float, float]:
+    """:func:`sph.analysis.oscillation_frequency`, or NaN when the record is too short."""
+    try:
+        return oscillation_frequency(t, y)
+    except ValueError:
+        return float("nan"), float("nan")
+
+
+def steady_wave(t, eta, omega: float, window) -> dict:
+    """:func:`sph.analysis.wave_statistics`, or NaN values when the window is too short."""
+    try:
+        return wave_statistics(t, eta, omega, tuple(window))
+    except ValueError:
+        nan = float("nan")
+        return dict(amplitude=nan, mean=nan, period=nan, height=nan)
+
+
+def _row(target, run, quantity, measured, reference, unit, source, error=None) -> dict:
+    if error is None and reference not in (None, 0) and np.isfinite(measured):
+        error = measured / reference - 1.0
+    return dict(target=target, run=run, quantity=quantity, measured=float(measured),
+                reference=float("nan") if reference is None else float(reference), unit=unit,
+                error=float("nan") if error is None else float(error), source=source)
+
+
+def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]:
+    """Steady amplitude and period at WP1 and WP2 against linear flap theory, per run; the
+    reflection coefficient of the absorbing zone from all probes of the finest run."""
+    rows = []
+    finest = None
+    for run, ds in runs.items():
+        t = ds["time"].values
+        omega = float(ds.attrs["omega"])
+        a = float(ds.attrs["theory_amplitude"])
+        dx = float(ds.attrs["dx"])
+        for probe in ("WP1", "WP2"):
+            if probe not in ds["probe"].values:
+                continue
+            eta = ds["probe_elevation"].sel(probe=probe).values
+            st = steady_wave(t, eta, omega, window)
+            label = f"{run} (dx = {dx:g} m = {dx / a:.2f} A)"
+            rows.append(_row("wave_tank", label, f"amplitude at {probe}", st["amplitude"], a,
+                             "m", "linear flap theory"))
+            rows.append(_row("wave_tank", label, f"period at {probe}", st["period"],
+                             2 * math.pi / omega, "s", "wavemaker period"))
+        if finest is None or dx < float(finest.attrs["dx"]):
+            finest = ds
+    if finest is not None and finest["probe"].size >= 3:
+        t = finest["time"].values
+        xs = [_probe_x(finest, p) for p in finest["probe"].values]
+        if all(x is not None for x in xs):
+            etas = [finest["probe_elevation"].sel(probe=p).values for p in finest["probe"].values]
+            r = reflection_coefficient(t, etas, xs, float(finest.attrs["omega"]),
+                                       float(finest.attrs["theory_wavenumber"]), tuple(window))
+            rows.append(_row("wave_tank", f"dx = {float(finest.attrs['dx']):g} m",
+                             "reflection coefficient", r["coefficient"], None, "1",
+                             "absorbing zone (small is good)"))
+    return rows
+
+
+def _probe_x(ds, name: str) -> float | None:
+    import yaml
+
+    cfg = yaml.safe_load(ds.attrs.get("config", "")) or {}
+    for p in (cfg.get("probes") or {}).get("surface") or []:
+        if p.get("name") == name:
+            return float(p["x"])
+    return None
+
+
+def sloshing(runs: Mapping[str, object]) -> list[dict]:
+    """First sloshing frequency of the U-shaped cabin against Table II."""
+    rows = []
+    for run, ds in runs.items():
+        fill = float(ds.attrs["fill"])
+        omega, _ = frequency(ds["time"].values, ds["centre_of_mass_x"].values)
+        ref = TABLE_II_SLOSHING.get(round(fill, 6))
+        rows.append(_row("sloshing", f"{run} (fill {100 * fill:g} %, dx = "
+                         f"{float(ds.attrs['dx']):g} m)", "first sloshing frequency", omega,
+                         ref, "rad/s", "Table II" if ref else "no reference"))
+    return rows
+
+
+def decay(runs: Mapping[str, object]) -> list[dict]:
+    """Roll and heave natural frequencies of the intact ship against Table II."""
+    rows = []
+    for run, ds in runs.items():
+        name, ref = ("roll", TABLE_II_ROLL) if run == "roll" else ("heave", TABLE_II_HEAVE)
+        omega, zeta = frequency(ds["time"].values, ds[name].values)
+        label = f"{run} (dx = {float(ds.attrs['dx']):g} m)"
+        rows.append(_row("decay", label, f"{name} natural frequency", omega, ref, "rad/s",
+                         "Table II"))
+        rows.append(_row("decay", label, f"{name} damping ratio", zeta, None, "1",
+                         "fitted decay"))
+    return rows
+
+
+def hadzic_series(path: str | Path | None = None) -> dict[str, np.ndarray]:
+    """The Hadzic et al. (2005) series: name -> array of (time, value) rows.
+
+    Names: ``WaveProbe_N1``, ``WaveProbe_N2`` (m), ``WP_Heave`` (m), ``WP_Roll`` (degree),
+    ``WP_Sway`` (m).
+    """
+    if path is None:
+        path = validation_data_dir() / "hadzic2005" / "EXP_FloatingWavesVal_Hadzic_et_al_2005.txt"
+    with open(path, encoding="latin-1") as fh:
+        lines = fh.read().splitlines()
+    header = lines[1].split("\t")
+    names = [header[k] for k in range(1, len(header), 2)]
+    cols: dict[str, list] = {n: [] for n in names}
+    for line in lines[2:]:
+        parts = line.split("\t")
+        for k, n in enumerate(names):
+            try:
+                t, v = float(parts[2 * k]), float(parts[2 * k + 1])
+            except (IndexError, ValueError):
+                continue
+            cols[n].append((t, v))
+    return {n: np.array(v) for n, v in cols.items()}
+
+
+#: experiment series -> (variable, probe, unit)
+HADZIC_MAP = {"WaveProbe_N1": ("probe_elevation", "WP1", "m"),
+              "WaveProbe_N2": ("probe_elevation", "WP2", "m"),
+              "WP_Heave": ("heave", None, "m"), "WP_Roll": ("roll", None, "degree"),
+              "WP_Sway": ("sway", None, "m")}
+
+
+def simulated(ds, variable: str, probe: str | None):
+    if variable not in ds:
+        return None
+    v = ds[variable]
+    if probe is not None:
+        if probe not in ds["probe"].values:
+            return None
+        v = v.sel(probe=probe)
+    return v.values
+
+
+def floating_box(runs: Mapping[str, object], exp: Mapping[str, np.ndarray]) -> list[dict]:
+    """Normalised RMS difference between the floating box and the experiment, per series
+    (RMS of the difference over the experiment's samples inside the run / the experiment's
+    half range)."""
+    rows = []
+    for run, ds in runs.items():
+        t = ds["time"].values
+        for name, (variable, probe, unit) in HADZIC_MAP.items():
+            y = simulated(ds, variable, probe)
+            data = exp.get(name)
+            if y is None or data is None or not len(data):
+                continue
+            sel = (data[:, 0] >= t[0]) & (data[:, 0] <= t[-1])
+            if sel.sum() < 5:
+                continue
+            te, ye = data[sel, 0], data[sel, 1]
+            rms = float(np.sqrt(np.mean((np.interp(te, t, y) - ye) ** 2)))
+            scale = 0.5 * float(np.ptp(ye)) or 1.0
+            rows.append(_row("floating_box", f"{run} (dx = {float(ds.attrs['dx']):g} m)",
+                             f"{name} RMS difference", rms, None, unit,
+                             "Hadzic et al. (2005)", error=rms / scale))
+    return rows
+
+
+def dam_break(runs: Mapping[str, object], t_max: float = 0.6) -> list[dict]:
+    """Surge-front lead over Koshizuka & Oka (1996) up to ``t_max``: RMS and largest."""
+    exp = koshizuka_front()
+    exp = exp[exp[:, 0] <= t_max]
+    rows = []
+    for run, ds in runs.items():
+        t = ds["time"].values
+        sel = exp[:, 0] <= t[-1]
+        if sel.sum() < 2:
+            continue
+        rel = np.interp(exp[sel, 0], t, ds["front_position"].values) / exp[sel, 1] - 1.0
+        label = f"{run} (dx = {float(ds.attrs['dx']):g} m)"
+        rows.append(_row("dam_break", label, "front lead, RMS", float(np.sqrt(np.mean(rel**2))),
+                         None, "1", "Koshizuka & Oka (1996)",
+                         error=float(np.sqrt(np.mean(rel**2)))))
+        k = int(np.argmax(np.abs(rel)))
+        rows.append(_row("dam_break", label, f"front lead, largest (t = {exp[sel][k, 0]:.2f} s)",
+                         float(rel[k]), None, "1", "Koshizuka & Oka (1996)",
+                         error=float(rel[k])))
+    return rows

@@ -1,0 +1,155 @@
+"""Tests of the paper's findings measured on synthetic sweep datasets (sph.findings)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sph import findings, study
+
+T = 2 * math.pi
+T1 = 3.18 * T
+CASES = study.check_cases([
+    dict(case="case1", opening=0, side="back", fill=0),
+    dict(case="case2", opening="5/21", side="back", fill=0),
+    dict(case="case3", opening="10/21", side="back", fill=0),
+    dict(case="case4", opening="5/7", side="back", fill=0),
+    dict(case="case5", opening="10/21", side="head", fill=0),
+    dict(case="case6", opening="10/21", side="back", fill=0.25),
+    dict(case="case7", opening="10/21", side="back", fill=0.5),
+    dict(case="case8", opening="10/21", side="back", fill=0.75),
+])
+GROUPS = study.groups(CASES, study.check_cases([dict(case="r", opening="10/21", side="back",
+                                                     fill=0)])[0])
+
+
+def _sweep(params: dict, t_end: float = 12 * T):
+    """A sweep dataset whose series follow ``params[case]``: roll amplitude after t2
+    (``roll``), largest roll after t1 (``kick``), heave mean (``sink``) and amplitude
+    (``heave``), flood volume final level (``q``), first-peak overshoot (``peak``), initial
+    inflow rate (``rate``), fluctuation (``fluct``), W1/W2 amplitudes."""
+    t = np.arange(0.0, t_end + 1e-9, 0.05)
+    after = t >= T1
+    data = {k: [] for k in ("roll", "heave", "flood_volume", "flood_ratio", "probe_elevation")}
+    for c in CASES:
+        p = params[c["case"]]
+        w = np.sin(t)
+        roll = p["roll"] * w
+        roll[after & (t < T1 + 1.0)] += p.get("kick", 0.0)
+        heave = p.get("heave", 0.5) * w - p.get("sink", 0.0) * after
+        q = np.zeros_like(t)
+        if c["opening"] > 0:
+            ramp = np.clip((t - T1) * p["rate"], 0.0, None)
+            level = p["q"] * (1 + p["peak"])
+            q = np.minimum(ramp, level)
+            settle = t > T1 + level / p["rate"]
+            q[settle] = p["q"] * (1 + 0.5 * p["fluct"] * np.sin(t[settle]))
+            top = np.argmax(settle)
+            q[top:top + 10] = level  # the first peak, then the equilibrium
+        probes = np.vstack([np.zeros_like(t), np.zeros_like(t), p.get("w1", 0.1) * w,
+                            p.get("w2", 0.1) * w])
+        for k, v in (("roll", roll), ("heave", heave), ("flood_volume", q),
+                     ("flood_ratio", q / 100.0), ("probe_elevation", probes)):
+            data[k].append(v)
+    ds = xr.Dataset(
+        {k: (("case", "time"), np.array(v)) for k, v in data.items() if k != "probe_elevation"},
+        coords=dict(time=t, case=[c["case"] for c in CASES],
+                    opening=("case", [c["opening"] for c in CASES]),
+                    side=("case", [c["side"] for c in CASES]),
+                    fill=("case", [c["fill"] for c in CASES]),
+                    amplitude=("case", [c["amplitude"] for c in CASES]),
+                    probe=["WP1", "WP2", "W1", "W2"]),
+        attrs=dict(wave_period=T, damage_time=T1))
+    ds["probe_elevation"] = (("case", "probe", "time"), np.array(data["probe_elevation"]))
+    return ds
+
+
+def _paper_like():
+    """Every finding of the paper true."""
+    base = dict(rate=10.0, q=60.0, peak=0.2, fluct=0.10, sink=0.4, heave=0.5)
+    p = {
+        "case1": dict(base, roll=10.0, sink=0.0),
+        "case2": dict(base, roll=7.0, peak=0.1, q=50.0, w2=0.30, sink=0.3),
+        "case3": dict(base, roll=6.0, peak=0.2, w2=0.20, kick=-20.0),
+        "case4": dict(base, roll=5.0, peak=0.3, q=70.0, w2=0.10, sink=0.5),
+        "case5": dict(base, roll=4.0, rate=15.0, kick=20.0, heave=0.55),
+        "case6": dict(base, roll=6.5, fluct=0.08, w1=0.3),
+        "case7": dict(base, roll=3.0, fluct=0.06, w1=0.2),
+        "case8": dict(base, roll=3.2, fluct=0.04, w1=0.1),
+    }
+    return p
+
+
+def _verdicts(ds, t2=7.0):
+    return {f.id: f.holds for f in findings.compute_findings(ds, GROUPS, t2)}
+
+
+def test_every_finding_holds_on_paper_like_data():
+    out = findings.compute_findings(_sweep(_paper_like()), GROUPS, 7.0)
+    assert [f.id for f in out] == [f"F{k}" for k in range(1, 13)]
+    bad = {f.id: f.measured for f in out if f.holds is not True}
+    assert not bad
+
+
+@pytest.mark.parametrize("fid, case, change", [
+    ("F1", "case3", dict(roll=12.0)),         # a damaged case rolls more than the intact one
+    ("F2", "case4", dict(peak=0.0, q=40.0)),  # the largest opening has the lowest first peak
+    ("F3", "case2", dict(sink=-0.1)),         # a damaged case floats higher
+    ("F4", "case2", dict(w2=0.05)),           # the small opening sloshes least
+    ("F5", "case5", dict(rate=5.0)),          # head inflow slower
+    ("F6", "case5", dict(roll=8.0)),          # head rolls more at equilibrium
+    ("F7", "case3", dict(kick=20.0)),         # back case's largest roll towards the opening
+    ("F8", "case7", dict(roll=8.0)),          # 50 % rolls most
+    ("F9", "case3", dict(fluct=0.5)),         # Q fluctuates by 50 %
+    ("F10", "case8", dict(fluct=0.09)),       # more fluctuation at 75 %
+    ("F11", "case8", dict(w1=0.5)),           # more sloshing at 75 %
+    ("F12", "case5", dict(heave=1.0)),        # head heaves twice as much: not "slightly"
+])
+def test_each_finding_can_fail(fid, case, change):
+    p = _paper_like()
+    p[case] = dict(p[case], **change)
+    verdicts = _verdicts(_sweep(p))
+    assert verdicts[fid] is False
+    assert sum(v is False for v in verdicts.values()) >= 1
+
+
+def test_short_runs_are_not_determinable():
+    verdicts = _verdicts(_sweep(_paper_like(), t_end=6 * T))
+    for fid in ("F1", "F3", "F4", "F6", "F8", "F9", "F10", "F11", "F12"):
+        assert verdicts[fid] is None
+    assert verdicts["F2"] is True and verdicts["F5"] is True and verdicts["F7"] is True
+
+
+def test_missing_groups_are_not_determinable():
+    ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
+    groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],
+                          dict(opening=10 / 21, side="back", fill=0.0, amplitude=10 / 21))
+    out = {f.id: f for f in findings.compute_findings(ds, groups, 7.0)}
+    assert out["F1"].holds is True
+    for fid in ("F2", "F4", "F5", "F6", "F8", "F10", "F11", "F12"):
+        assert out[fid].holds is None and out[fid].measured.startswith("not in this sweep")
+
+
+def test_measures():
+    t = np.linspace(0, 20 * T, 20001)
+    assert findings.amplitude(3.0 * np.sin(t)) == pytest.approx(3.0, rel=0.015)
+    assert findings.fluctuation(10 + np.sin(t)) == pytest.approx(2 / 11, rel=1e-3)
+    q = np.clip(t - 1.0, 0, None)
+    assert findings.inflow_rate(t, q, 2.0, T) == pytest.approx(1.0)
+    q = np.where(t < 5, t, 5 + 0.1 * np.sin(3 * t))
+    tp, qp = findings.first_peak(t, q, 0.0, T)
+    assert tp == pytest.approx(5.0, abs=0.6) and qp == pytest.approx(5.0, abs=0.2)
+    assert findings.fraction_text(10 / 21) == "10/21"
+    assert findings.fraction_text(15 / 21) == "5/7"
+    assert findings.fraction_text(0.3) == "3/10"
+    assert findings.fraction_text(0.123456) == "0.123"
+
+
+def test_html_table_lists_every_finding():
+    out = findings.compute_findings(_sweep(_paper_like()), GROUPS, 7.0)
+    page = findings.findings_html(out, "demo", "note")
+    assert page.count("<tr>") == len(out) + 1
+    assert "12 holds" in page

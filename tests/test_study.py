@@ -1,0 +1,232 @@
+"""Tests of the sweep configuration, case files and sweep datasets (sph.study)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from sph import study
+from sph.config import ConfigError
+from sph.output import build_dataset, write_netcdf_atomic
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _config(**changes):
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    cfg.update(changes)
+    return cfg
+
+
+def _load(**changes):
+    return study.load_sweep(_config(**changes), base=ROOT)
+
+
+def test_default_sweep_is_table_one():
+    s = _load()
+    cases = {c["case"]: c for c in s["cases"]}
+    assert list(cases) == [f"case{k}" for k in range(1, 9)]
+    assert cases["case1"]["opening"] == 0.0
+    assert cases["case2"]["opening"] == pytest.approx(5 / 21)
+    assert cases["case4"]["opening"] == pytest.approx(5 / 7)
+    assert cases["case5"]["side"] == "head"
+    assert [cases[f"case{k}"]["fill"] for k in (6, 7, 8)] == [0.25, 0.5, 0.75]
+    assert all(c["amplitude"] == pytest.approx(10 / 21) for c in cases.values())
+    assert study.groups(s["cases"], s["reference"]) == {
+        "opening": ["case1", "case2", "case3", "case4"],
+        "side": ["case3", "case5"],
+        "fill": ["case3", "case6", "case7", "case8"],
+    }
+
+
+@pytest.mark.parametrize("text, value", [("10/21", 10 / 21), ("5/7", 5 / 7), (" 0.25 ", 0.25),
+                                         (0, 0.0), ("1e-1", 0.1)])
+def test_parse_number(text, value):
+    assert study.parse_number(text, "k") == pytest.approx(value)
+
+
+@pytest.mark.parametrize("text", ["ten", "1/0", True, None, "nan", [1]])
+def test_parse_number_refuses(text):
+    with pytest.raises(ConfigError, match="^k: "):
+        study.parse_number(text, "k")
+
+
+ROW = dict(case="a", opening=0.5, side="back", fill=0.0)
+
+
+@pytest.mark.parametrize("rows, key, message", [
+    ([ROW, dict(ROW)], "cases[1].case", "duplicate case id 'a'"),
+    ([dict(ROW, side="port")], "cases[0].side", "unknown side 'port'"),
+    ([dict(ROW, fill=1.5)], "cases[0].fill", r"must be in \[0, 1\); got 1.5"),
+    ([dict(ROW, fill=1.0)], "cases[0].fill", r"must be in \[0, 1\)"),
+    ([dict(ROW, fill=-0.1)], "cases[0].fill", r"must be in \[0, 1\)"),
+    ([dict(ROW, opening=1.2)], "cases[0].opening", r"must be in \[0, 1\)"),
+    ([dict(ROW, colour="red")], "cases[0].colour", "unknown key"),
+    ([dict(ROW, case="a b")], "cases[0].case", "case id must be"),
+    ([{k: v for k, v in ROW.items() if k != "fill"}], "cases[0].fill", "required column"),
+    ([], "cases", "non-empty list"),
+])
+def test_bad_cases_name_the_key(rows, key, message):
+    with pytest.raises(ConfigError, match=message) as err:
+        study.check_cases(rows)
+    assert err.value.key == key
+
+
+@pytest.mark.parametrize("changes, key", [
+    (dict(fil=0.5), "fil"),
+    (dict(preset="fine"), "preset"),
+    (dict(sweep="validation"), "sweep"),
+    (dict(sweep="my sweep"), "sweep"),
+    (dict(validation=["wave_tank", "towing"]), "validation[1]"),
+    (dict(reference={"opening": 0.5, "colour": 1}), "reference.colour"),
+    (dict(t2_periods=-1), "t2_periods"),
+    (dict(cases="config/cases/missing.tsv"), "cases"),
+])
+def test_bad_sweep_names_the_key(changes, key):
+    with pytest.raises(ConfigError) as err:
+        _load(**changes)
+    assert err.value.key == key
+    assert str(err.value).startswith(f"{key}: ")
+
+
+def test_case_table_with_unknown_column(tmp_path):
+    table = tmp_path / "cases.tsv"
+    table.write_text("case\topening\tside\tfill\tspeed\nx\t0\tback\t0\t3\n")
+    with pytest.raises(ConfigError, match="unknown key") as err:
+        _load(cases=str(table))
+    assert err.value.key == "cases[0].speed"
+
+
+def test_presets_are_checked():
+    presets = yaml.safe_load((ROOT / "config" / "presets.yaml").read_text())
+    assert set(presets) >= {"coarse", "medium", "paper"}
+    study.check_presets(presets)
+    bad = {"p": dict(presets["coarse"], ship={"dx": 0.8})}
+    with pytest.raises(ConfigError) as err:
+        study.check_presets(bad)
+    assert err.value.key == "presets.p.ship.periods"
+    bad = {"p": dict(presets["coarse"], ship={"dx": 0.8, "periods": 10, "dy": 1})}
+    with pytest.raises(ConfigError, match="unknown key"):
+        study.check_presets(bad)
+
+
+def test_presets_halve_dx_in_units_of_the_wave_amplitude():
+    s = {p: _load(preset=p)["preset_settings"] for p in ("coarse", "medium", "paper")}
+    amp = s["coarse"]["wave_tank"]["amplitude"]
+    assert [s[p]["ship"]["dx"] / amp for p in ("coarse", "medium", "paper")] == \
+        pytest.approx([0.4, 0.2, 0.1])
+    assert s["paper"]["wave_tank"]["dx_over_amplitude"] == [0.4, 0.2, 0.1]
+
+
+def test_ship_overrides_and_case_document():
+    s = _load()
+    case4 = next(c for c in s["cases"] if c["case"] == "case4")
+    over = study.ship_overrides(case4, s)
+    assert over["numerics.dx"] == 0.8
+    assert over["geometry.damage.opening"] == pytest.approx(5 / 7)
+    assert over["geometry.wavemaker.amplitude"] == pytest.approx(2.0)
+    assert over["run.t_end"] == pytest.approx(10 * 2 * math.pi)
+    assert over["geometry.cargo_density"] == 850.0
+    doc = study.case_document("damaged_ship", over)
+    assert doc["geometry"]["damage"] == {"opening": pytest.approx(5 / 7), "side": "back"}
+    cfg = study.check_case_document(doc, "case4")
+    assert cfg.numerics.dx == 0.8
+    assert cfg.geometry.hull.breadth == 16.0  # from the built-in case's defaults
+
+
+def test_still_water_case_has_no_wave():
+    s = _load(cases=[dict(case="still", opening="10/21", side="back", fill=0, amplitude=0)])
+    over = study.ship_overrides(s["cases"][0], s)
+    assert over["geometry.wavemaker.theta0"] == 0.0
+    assert over["geometry.wavemaker.amplitude"] is None
+    study.check_case_document(study.case_document("damaged_ship", over), "still")
+
+
+def test_engine_checks_name_the_run_and_the_key():
+    s = _load(cases=[dict(case="high", opening=0.99, side="back", fill=0)])
+    over = study.ship_overrides(s["cases"][0], s)
+    with pytest.raises(ConfigError, match="above the waterline") as err:
+        study.check_case_document(study.case_document("damaged_ship", over), "case 'high'")
+    assert err.value.key == "case 'high': geometry.damage.opening"
+
+
+def test_nest_refuses_a_value_and_a_section():
+    assert study.nest({"a.b": 1, "a.c": 2, "d": 3}) == {"a": {"b": 1, "c": 2}, "d": 3}
+    with pytest.raises(ConfigError):
+        study.nest({"a": 1, "a.b": 2})
+
+
+def test_validation_runs_cover_every_target(tmp_path):
+    s = _load()
+    runs = study.validation_runs(s, tmp_path)
+    assert list(runs) == list(study.VALIDATION_TARGETS)
+    assert [o["numerics.dx"] for _, o in runs["wave_tank"].values()] == \
+        pytest.approx([2.0, 1.2, 0.8])
+    assert list(runs["sloshing"]) == ["fill25", "fill50", "fill75"]
+    assert runs["decay"]["heave"][1]["geometry.dofs.roll"] is False
+    assert runs["floating_box"]["box"][1]["geometry.wavemaker.file"].endswith(
+        "CaseFloatingWavesVal_Flap.dat")
+
+
+def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed", seed=0):
+    rng = np.random.default_rng(seed)
+    n = int(round(t_end / dt_out)) + 1
+    t = np.arange(n) * dt_out + jitter * rng.random(n) * (np.arange(n) > 0)
+    roll = np.sin(t)
+    ds = build_dataset(
+        t, {"roll": roll, "heave": 0.1 * t, "flood_ratio": t / 10},
+        probes={"probe_elevation": (["WP1", "W2"], np.vstack([t, 2 * t]))},
+        attrs=dict(case="damaged_ship", status=status, wave_period=6.28, damage_time=2.0,
+                   dx=0.8, wall_clock_seconds=12.5, steps=100, n_total=1000,
+                   particle_steps_per_second=8000.0, opening=case["opening"]),
+        config_yaml=yaml.safe_dump({"run": {"t_end": t_end, "output_interval": dt_out}}))
+    write_netcdf_atomic(ds, path)
+    return path
+
+
+def test_gather_builds_a_case_dimension(tmp_path):
+    cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
+                               dict(case="b", opening="10/21", side="head", fill=0.5)])
+    paths = [_run_file(tmp_path / "a.nc", cases[0], jitter=0.004),
+             _run_file(tmp_path / "b.nc", cases[1], jitter=0.004, seed=1)]
+    ds = study.gather(paths, cases, {"sweep": "demo", "preset": "coarse"})
+    assert ds.sizes["case"] == 2 and ds.sizes["time"] == 11
+    np.testing.assert_allclose(ds["time"].values, np.arange(11) * 0.1)
+    assert list(ds["case"].values) == ["a", "b"]
+    assert ds["opening"].values[1] == pytest.approx(10 / 21)
+    assert list(ds["side"].values) == ["back", "head"]
+    for name in ("opening", "side", "fill", "amplitude"):
+        assert name in ds.coords and ds[name].dims == ("case",)
+    assert ds["roll"].dims == ("case", "time")
+    assert ds["roll"].attrs["units"] == "degree"
+    assert ds["opening"].attrs["units"] == "1"
+    # heave is linear: interpolation onto the nominal times is exact
+    np.testing.assert_allclose(ds["heave"].values[0], 0.1 * np.arange(11) * 0.1, atol=1e-12)
+    assert ds.attrs["Conventions"] == "CF-1.10"
+    assert ds.attrs["sweep"] == "demo" and ds.attrs["wave_period"] == 6.28
+    assert ds.attrs["source"].startswith("sph-flood")
+    assert ds["wall_clock_seconds"].values.tolist() == [12.5, 12.5]
+    out = tmp_path / "sweep.nc"
+    write_netcdf_atomic(ds, out)
+    import xarray as xr
+
+    with xr.open_dataset(out) as back:
+        assert back.sizes["case"] == 2
+        assert back["time"].attrs["units"] == "s"
+        assert back["side"].values.tolist() == ["back", "head"]
+
+
+def test_gather_refuses_a_failed_or_short_run(tmp_path):
+    cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
+                               dict(case="b", opening=0.3, side="back", fill=0)])
+    a = _run_file(tmp_path / "a.nc", cases[0])
+    b = _run_file(tmp_path / "b.nc", cases[1], status="failed: blew up")
+    with pytest.raises(ValueError, match="'b'.*did not complete"):
+        study.gather([a, b], cases)
+    b = _run_file(tmp_path / "b.nc", cases[1], t_end=0.5)
+    ds = study.gather([a, b], cases)  # the shorter run sets the common time axis
+    assert ds.sizes["time"] == 6

@@ -1,0 +1,209 @@
+"""Tests of the Snakemake workflow: dry runs of the default sweep, refused configurations,
+lint, and the toy configuration (.test/) run end to end with the report.
+
+Each test runs snakemake in a copy of the workflow (Snakefile, config/, workflow/, .test/) in a
+temporary folder, with the interpreter running the tests; the rules call the engine as `sph`
+(the console script of the installed package; a stand-in calling ``python -m sph.cli`` is put
+on PATH when the package is only importable).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+N_TABLE_ONE = 8
+
+
+def _env(tmp: Path) -> dict:
+    env = dict(os.environ)
+    path = [str(Path(sys.executable).parent)]
+    if shutil.which("sph", path=os.pathsep.join(path + [env.get("PATH", "")])) is None:
+        shim = tmp / "bin"
+        shim.mkdir(exist_ok=True)
+        (shim / "sph").write_text(f'#!/bin/sh\nexec "{sys.executable}" -m sph.cli "$@"\n')
+        (shim / "sph").chmod(0o755)
+        path.insert(0, str(shim))
+    env["PATH"] = os.pathsep.join(path + [env.get("PATH", "")])
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in [env.get("PYTHONPATH")] if p])
+    return env
+
+
+def _workflow_copy(tmp: Path) -> Path:
+    work = tmp / "wf"
+    work.mkdir()
+    shutil.copy(ROOT / "Snakefile", work)
+    for d in ("config", "workflow", ".test"):
+        shutil.copytree(ROOT / d, work / d, ignore=shutil.ignore_patterns("__pycache__"))
+    return work
+
+
+def _snakemake(work: Path, *args, timeout=900) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "snakemake", *args], cwd=work,
+                          env=_env(work.parent), capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def _job_counts(output: str) -> dict[str, int]:
+    """The `Job stats` table of a dry run: rule -> number of jobs."""
+    counts = {}
+    table = output.split("Job stats:")[-1]
+    for line in table.splitlines():
+        m = re.match(r"^([A-Za-z_]\w*)\s+(\d+)$", line.strip())
+        if m and m.group(1) != "total":
+            counts[m.group(1)] = int(m.group(2))
+    return counts
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    return _workflow_copy(tmp_path_factory.mktemp("workflow"))
+
+
+def test_dry_run_lists_the_table_one_simulations(work):
+    res = _snakemake(work, "-n")
+    assert res.returncode == 0, res.stderr + res.stdout
+    counts = _job_counts(res.stdout)
+    assert counts["simulate_case"] == N_TABLE_ONE
+    assert counts["case_file"] == N_TABLE_ONE
+    # validation: wave tank at 3 dx, sloshing at 3 fills, roll and heave decay, box, dam break
+    assert counts["simulate_validation"] == 10
+    for rule in ("gather", "findings", "validation_summary", "overview_figure", "all"):
+        assert counts[rule] == 1
+    assert counts["ship_figure"] == 10  # Figs. 12-15, 17-19, 21-23; Fig. 10 needs amplitudes
+    for k in range(1, N_TABLE_ONE + 1):
+        assert f"results/table1/cases/case{k}.nc" in res.stdout
+    assert not (work / "results").exists()
+
+
+def test_dry_run_of_the_example_sweep(work):
+    res = _snakemake(work, "-n", "--configfile", "config/sweeps/openings_fill.yaml")
+    assert res.returncode == 0, res.stderr + res.stdout
+    counts = _job_counts(res.stdout)
+    assert counts["simulate_case"] == 13
+    assert "simulate_validation" not in counts
+    assert "results/openings_fill/openings_fill.nc" in res.stdout
+
+
+def test_presets_select_the_resolution(work):
+    res = _snakemake(work, "-n", "--config", "preset=paper")
+    assert res.returncode == 0, res.stderr + res.stdout
+    assert "results/validation/paper/wave_tank/res3.nc" in res.stdout
+
+
+BAD = {
+    "unknown key": ({"fil": 0.5}, "fil: unknown key"),
+    "fill 1.5": ({"cases": [{"case": "a", "opening": 0.5, "side": "back", "fill": 1.5}]},
+                 "cases[0].fill: must be in [0, 1); got 1.5"),
+    "unknown side": ({"cases": [{"case": "a", "opening": 0.5, "side": "port", "fill": 0}]},
+                     "cases[0].side: unknown side 'port'"),
+    "duplicate case id": ({"cases": [{"case": "a", "opening": 0.5, "side": "back", "fill": 0},
+                                     {"case": "a", "opening": 0.3, "side": "back", "fill": 0}]},
+                          "cases[1].case: duplicate case id 'a'"),
+    "unknown column": ({"cases": [{"case": "a", "opening": 0.5, "side": "back", "fill": 0,
+                                   "speed": 2}]}, "cases[0].speed: unknown key"),
+    "unknown preset": ({"preset": "fine"}, "preset: unknown preset 'fine'"),
+    "opening above the waterline": (
+        {"cases": [{"case": "a", "opening": 0.99, "side": "back", "fill": 0}]},
+        "case 'a': geometry.damage.opening"),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_sweep_is_refused_before_any_job(work, name):
+    settings, message = BAD[name]
+    bad = work / f"bad_{name.replace(' ', '_')}.yaml"
+    bad.write_text(yaml.safe_dump(dict({"sweep": "bad"}, **settings)))
+    res = _snakemake(work, "-n", "--configfile", bad.name)
+    assert res.returncode != 0
+    text = res.stdout + res.stderr
+    assert "invalid sweep configuration" in text and message in text, text
+    assert not (work / "results").exists()
+
+
+def test_lint_is_clean(work):
+    res = _snakemake(work, "--lint")
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "Congratulations, your workflow is in a good condition!" in res.stdout + res.stderr
+
+
+# ------------------------------------------------------------------------------ toy run
+@pytest.fixture(scope="module")
+def toy(tmp_path_factory):
+    """The workflow test configuration run to the end, with the report."""
+    work = _workflow_copy(tmp_path_factory.mktemp("toy"))
+    start = time.perf_counter()
+    res = _snakemake(work, "--cores", "2", "--configfile", ".test/config.yaml")
+    wall = time.perf_counter() - start
+    assert res.returncode == 0, res.stdout[-6000:] + res.stderr[-6000:]
+    rep = _snakemake(work, "--report", "report.html", "--configfile", ".test/config.yaml")
+    assert rep.returncode == 0, rep.stdout[-3000:] + rep.stderr[-3000:]
+    print(f"toy workflow: {wall:.0f} s wall")
+    return work
+
+
+def test_toy_workflow_writes_the_sweep_dataset(toy):
+    cases = [ln.split("\t")[0] for ln in (toy / ".test" / "cases.tsv").read_text().splitlines()
+             if ln and not ln.startswith(("#", "case\t"))]
+    with xr.open_dataset(toy / "results" / "test" / "test.nc") as ds:
+        assert list(ds["case"].values) == cases
+        for name in ("opening", "side", "fill", "amplitude"):
+            assert ds[name].dims == ("case",)
+        for name in ("roll", "heave", "flood_ratio", "probe_elevation"):
+            assert "case" in ds[name].dims and "time" in ds[name].dims
+        assert ds.attrs["Conventions"] == "CF-1.10"
+        assert ds["time"].attrs["units"] == "s"
+        assert ds["roll"].attrs["units"] == "degree"
+        assert ds.attrs["sweep"] == "test" and ds.attrs["preset"] == "toy"
+    for case in cases:  # logs and benchmarks of every run
+        assert (toy / "results" / "test" / "benchmarks" / "simulate" / f"{case}.tsv").is_file()
+        assert "done:" in (toy / "results" / "test" / "logs" / "simulate" /
+                           f"{case}.log").read_text()
+    findings = (toy / "results" / "test" / "findings.csv").read_text().splitlines()
+    assert len(findings) == 13
+
+
+def test_toy_report_shows_every_figure_and_table(toy):
+    html = (toy / "report.html").read_text(errors="replace")
+    figures = sorted((toy / "results" / "test" / "figures").glob("*.png"))
+    figures += sorted((toy / "results" / "validation" / "toy" / "figures").glob("*.png"))
+    assert len(figures) >= 15
+    for fig in figures:
+        assert fig.name in html, fig.name
+    assert "findings.html" in html and "validation.html" in html
+
+
+def test_toy_rerun_has_nothing_to_do(toy):
+    res = _snakemake(toy, "-n", "--configfile", ".test/config.yaml")
+    assert res.returncode == 0
+    assert "Nothing to be done" in res.stdout + res.stderr
+
+
+def test_changing_one_case_reruns_only_that_case(toy):
+    table = toy / ".test" / "cases.tsv"
+    original = table.read_text()
+    changed = original.replace("case6\t10/21\tback\t0.25", "case6\t10/21\tback\t0.3")
+    assert changed != original
+    table.write_text(changed)
+    try:
+        res = _snakemake(toy, "-n", "--configfile", ".test/config.yaml")
+    finally:
+        table.write_text(original)
+    assert res.returncode == 0, res.stdout + res.stderr
+    counts = _job_counts(res.stdout)
+    assert counts["case_file"] == 1 and counts["simulate_case"] == 1
+    assert "results/test/cases/case6.nc" in res.stdout
+    assert not re.search(r"output: results/test/cases/case[^6]\.nc", res.stdout)
+    assert counts["gather"] == 1 and counts["findings"] == 1
+    for rule in ("simulate_validation", "validation_case_file", "validation_summary"):
+        assert rule not in counts

@@ -1,0 +1,171 @@
+# Configuration, paths and helpers shared by the rules.
+#
+# The sweep configuration is checked here, before any job: first by sph.study (every key,
+# with messages that name the key and the allowed range), then by the schemas in
+# config/schema/ (snakemake's validate), and finally every run's case file is built by the
+# engine's own configuration checks (an opening above the waterline, a dx too coarse for the
+# opening, a cargo heavier than the displacement, ...).
+
+import logging
+from pathlib import Path
+import re
+
+import pandas as pd
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
+
+from sph import study
+from sph.analysis import validation_data_dir
+from sph.config import ConfigError
+
+try:
+    SWEEP_CFG = study.load_sweep(config)
+except ConfigError as exc:
+    raise WorkflowError(f"invalid sweep configuration: {exc}") from None
+
+validate(config, "../../config/schema/config.schema.yaml")
+validate(SWEEP_CFG["presets"], "../../config/schema/presets.schema.yaml")
+validate(pd.DataFrame(SWEEP_CFG["cases"]), "../../config/schema/cases_checked.schema.yaml")
+
+SWEEP = SWEEP_CFG["sweep"]
+PRESET = config["preset"]
+CASES = {c["case"]: c for c in SWEEP_CFG["cases"]}
+GROUPS = study.groups(SWEEP_CFG["cases"], SWEEP_CFG["reference"])
+DATA_DIR = (
+    Path(config["validation_data"])
+    if config.get("validation_data")
+    else validation_data_dir()
+)
+SHIP_OVERRIDES = {cid: study.ship_overrides(c, SWEEP_CFG) for cid, c in CASES.items()}
+VALIDATION = study.validation_runs(SWEEP_CFG, DATA_DIR)
+
+
+def _check_documents():
+    """Build every run's case file with the engine's checks; the ship's log messages about
+    resolution are left to the runs' own logs."""
+    quiet = logging.getLogger("sph")
+    level = quiet.level
+    quiet.setLevel(logging.ERROR)
+    try:
+        for cid, over in SHIP_OVERRIDES.items():
+            study.check_case_document(
+                study.case_document("damaged_ship", over), f"case {cid!r}"
+            )
+        for target, runs in VALIDATION.items():
+            for run, (case, over) in runs.items():
+                study.check_case_document(
+                    study.case_document(case, over), f"validation {target}/{run}"
+                )
+    except ConfigError as exc:
+        raise WorkflowError(f"invalid sweep configuration: {exc}") from None
+    finally:
+        quiet.setLevel(level)
+
+
+_check_documents()
+if "floating_box" in VALIDATION and not (DATA_DIR / "hadzic2005").is_dir():
+    raise WorkflowError(
+        f"validation_data: no hadzic2005/ in {str(DATA_DIR)!r}; set validation_data "
+        "to the folder of the experimental series or drop floating_box from validation"
+    )
+
+
+wildcard_constraints:
+    sweep=re.escape(SWEEP),
+    case="|".join(re.escape(c) for c in CASES),
+    preset=re.escape(PRESET),
+    target="|".join(study.VALIDATION_TARGETS),
+    run="[A-Za-z0-9][A-Za-z0-9_-]*",
+    figure="fig[0-9a-z_]+",
+
+
+# The paper's figures drawn from a sweep dataset: name -> (group of cases, series).
+# Series are dataset variables or body-fixed probes (W1: cargo cabin, W2: damaged cabin).
+SHIP_FIGURES = {
+    "fig10_amplitude": ("amplitude", ["roll", "heave", "flood_ratio"]),
+    "fig12_w2_opening": ("opening", ["W2"]),
+    "fig13_flood_opening": ("opening", ["flood_ratio"]),
+    "fig14_heave_opening": ("opening", ["heave"]),
+    "fig15_roll_opening": ("opening", ["roll"]),
+    "fig17_flood_side": ("side", ["flood_ratio"]),
+    "fig18_roll_side": ("side", ["roll"]),
+    "fig19_heave_side": ("side", ["heave"]),
+    "fig21_roll_fill": ("fill", ["roll"]),
+    "fig22_probes_fill": ("fill", ["W1", "W2"]),
+    "fig23_flood_fill": ("fill", ["flood_ratio"]),
+}
+# Validation figures: name -> targets whose runs they draw.
+VALIDATION_FIGURES = {
+    "fig07_wave_tank": "wave_tank",
+    "fig_sloshing": "sloshing",
+    "fig_decay": "decay",
+    "fig_floating_box": "floating_box",
+    "fig_dam_break": "dam_break",
+}
+
+
+def sweep_dir():
+    return f"results/{SWEEP}"
+
+
+def case_path(case, ext):
+    return f"results/{SWEEP}/cases/{case}.{ext}"
+
+
+def validation_dir():
+    return f"results/validation/{PRESET}"
+
+
+def validation_nc(target):
+    """The runs of a validation target (none when the sweep does not validate it)."""
+    return [f"{validation_dir()}/{target}/{run}.nc" for run in VALIDATION.get(target, {})]
+
+
+def ship_figures():
+    """The figures whose group of cases is in this sweep."""
+    return [name for name, (group, _) in SHIP_FIGURES.items() if group in GROUPS]
+
+
+def validation_figures():
+    return [name for name, target in VALIDATION_FIGURES.items() if target in VALIDATION]
+
+
+def ship_document(wildcards):
+    return study.case_document("damaged_ship", SHIP_OVERRIDES[wildcards.case])
+
+
+def validation_document(wildcards):
+    case, over = VALIDATION[wildcards.target][wildcards.run]
+    return study.case_document(case, over)
+
+
+def sweep_attrs():
+    """Global attributes of the sweep dataset: the sweep's configuration."""
+    import yaml
+
+    keep = {k: config.get(k) for k in ("sweep", "title", "preset", "set", "t2_periods")}
+    return dict(
+        sweep=SWEEP,
+        title=SWEEP_CFG["title"],
+        preset=PRESET,
+        preset_description=SWEEP_CFG["preset_settings"].get("description", ""),
+        t2_periods=SWEEP_CFG["t2_periods"],
+        sweep_config=yaml.safe_dump(
+            dict(keep, cases=SWEEP_CFG["cases"], preset_settings=SWEEP_CFG["preset_settings"]),
+            sort_keys=False,
+        ),
+    )
+
+
+def all_targets():
+    out = [
+        f"{sweep_dir()}/{SWEEP}.nc",
+        f"{sweep_dir()}/findings.html",
+        f"{sweep_dir()}/findings.csv",
+    ]
+    out += [f"{sweep_dir()}/figures/{name}.png" for name in ship_figures()]
+    out += [f"{sweep_dir()}/figures/overview.png"]
+    if VALIDATION:
+        out += [f"{validation_dir()}/validation.html"]
+        out += [f"{validation_dir()}/figures/{name}.png" for name in validation_figures()]
+    return out

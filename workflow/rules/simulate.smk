@@ -1,0 +1,76 @@
+# One engine run per case: a case file (the built-in case plus this run's values), then
+# `sph run`. The engine keeps checkpoints in OUTPUT.ckpt/ beside the output and resumes from
+# them when the same run is started again (after a kill, a pre-emption, a time limit): the
+# checkpoint folder is deliberately not an output, so that snakemake does not delete it
+# when it reruns an incomplete job (`--rerun-incomplete`, set in the default profile). A
+# checkpoint left by a run of other parameters is refused by the engine (exit status 2);
+# the run then starts over from t = 0.
+
+SPH_RUN = (
+    "( sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
+    " || {{ status=$?; if [ $status -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
+    " echo 'checkpoint of other parameters: starting over'; sph run {input.case:q}"
+    " -o {output.nc:q} --threads {threads} --no-progress --restart;"
+    " else exit $status; fi; }} ) > {log:q} 2>&1"
+)
+
+
+rule case_file:
+    output:
+        "results/{sweep}/cases/{case}.yaml",
+    params:
+        document=ship_document,
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/case_file/{case}.log",
+    localrule: True
+    script:
+        "../scripts/case_file.py"
+
+
+rule simulate_case:
+    input:
+        case="results/{sweep}/cases/{case}.yaml",
+    output:
+        nc="results/{sweep}/cases/{case}.nc",
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/simulate/{case}.log",
+    benchmark:
+        "results/{sweep}/benchmarks/simulate/{case}.tsv"
+    threads: 1
+    priority: 10
+    shell:
+        SPH_RUN
+
+
+rule validation_case_file:
+    output:
+        "results/validation/{preset}/{target}/{run}.yaml",
+    params:
+        document=validation_document,
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/validation/{preset}/logs/case_file/{target}/{run}.log",
+    localrule: True
+    script:
+        "../scripts/case_file.py"
+
+
+rule simulate_validation:
+    input:
+        case="results/validation/{preset}/{target}/{run}.yaml",
+    output:
+        nc="results/validation/{preset}/{target}/{run}.nc",
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/validation/{preset}/logs/simulate/{target}/{run}.log",
+    benchmark:
+        "results/validation/{preset}/benchmarks/simulate/{target}/{run}.tsv"
+    threads: 1
+    shell:
+        SPH_RUN

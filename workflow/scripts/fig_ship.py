@@ -1,0 +1,102 @@
+"""Ship-motion figures of a sweep against t/T (analogues of Cao et al. 2019, Figs. 10-23).
+
+Rule ``ship_figure`` / ``overview_figure``: the sweep dataset ``snakemake.input.nc``, the
+cases ``snakemake.params.cases`` and the series ``snakemake.params.series`` (dataset
+variables, or the body-fixed probes ``W1``, cargo cabin, and ``W2``, damaged cabin) ->
+``snakemake.output.png``. One panel per series, one line per case; with the group ``fill``
+and probe series (Fig. 22), one panel per case with both probes, as the paper draws it.
+Vertical lines: the damage time t1 and the start of the dynamic equilibrium t2.
+
+    python workflow/scripts/fig_ship.py OUT.png SWEEP.nc roll,heave [CASE ...]
+"""
+
+
+import logging
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from sph.findings import case_label  # noqa: E402
+from sph.output import read_dataset  # noqa: E402
+
+LABELS = {
+    "roll": "roll (deg)",
+    "heave": "heave (m)",
+    "sway": "sway (m)",
+    "flood_ratio": "Q/V",
+    "flood_volume": "Q (m$^2$)",
+    "W1": "W1 elevation (m)",
+    "W2": "W2 elevation (m)",
+    "WP1": "WP1 elevation (m)",
+    "WP2": "WP2 elevation (m)",
+}
+
+
+def _series(ds, case, name):
+    if name in ds.data_vars:
+        return ds[name].sel(case=case).values
+    return ds["probe_elevation"].sel(case=case, probe=name).values
+
+
+def _case(ds, case):
+    c = ds.sel(case=case)
+    return dict(case=case, opening=float(c["opening"]), side=str(c["side"].values),
+                fill=float(c["fill"]), amplitude=float(c["amplitude"]))
+
+
+def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> None:
+    ds = read_dataset(nc)
+    cases = list(cases or ds["case"].values)
+    period = float(ds.attrs["wave_period"])
+    t1 = float(ds.attrs["damage_time"]) / period
+    tt = ds["time"].values / period
+    probes_per_case = group == "fill" and all(s in ("W1", "W2") for s in series)
+    if probes_per_case:
+        panels = [(c, list(series)) for c in cases]
+    else:
+        panels = [(s, cases) for s in series]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 2.4 * len(panels) + 0.6),
+                             sharex=True, squeeze=False)
+    for ax, (key, lines) in zip(axes[:, 0], panels, strict=True):
+        for line in lines:
+            case, name = (key, line) if probes_per_case else (line, key)
+            label = name if probes_per_case else case_label(_case(ds, case))
+            if group == "amplitude" and not probes_per_case:
+                label = f"A/d = {float(ds['amplitude'].sel(case=case)):.3g}"
+            ax.plot(tt, _series(ds, case, name), lw=1.0, label=label)
+        ax.axvline(t1, color="k", ls="--", lw=0.8)
+        if t2_periods is not None:
+            ax.axvline(t2_periods, color="0.5", ls=":", lw=0.8)
+        if probes_per_case:
+            ax.set_ylabel("elevation (m)")
+            ax.set_title(case_label(_case(ds, key)), fontsize=9)
+        else:
+            ax.set_ylabel(LABELS.get(key, key))
+        ax.legend(fontsize=7, ncol=min(4, len(lines)), loc="upper left")
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("t / T")
+    axes[0, 0].annotate("t1", (t1, 1.0), xycoords=("data", "axes fraction"), fontsize=8,
+                        ha="left", va="bottom")
+    if t2_periods is not None:
+        axes[0, 0].annotate("t2", (t2_periods, 1.0), xycoords=("data", "axes fraction"),
+                            fontsize=8, ha="left", va="bottom")
+    fig.suptitle(title or f"sweep {ds.attrs.get('sweep', '')}, preset "
+                 f"{ds.attrs.get('preset', '')} (dx = {ds.attrs.get('dx', float('nan')):g} m)",
+                 fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    if "snakemake" in globals():
+        sm = globals()["snakemake"]
+        logging.basicConfig(filename=sm.log[0], level=logging.INFO)
+        main(sm.output.png, sm.input.nc, list(sm.params.series), list(sm.params.cases),
+             sm.params.group, float(sm.params.t2_periods))
+        logging.info("wrote %s", sm.output.png)
+    else:
+        main(sys.argv[1], sys.argv[2], sys.argv[3].split(","), sys.argv[4:] or None)

@@ -1,0 +1,39 @@
+"""The paper's findings measured on a sweep dataset: a CSV table and an HTML page.
+
+Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``.
+"""
+
+
+import csv
+import logging
+
+from sph.findings import compute_findings, findings_html, findings_table
+from sph.output import read_dataset
+
+
+def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
+    ds = read_dataset(nc)
+    found = compute_findings(ds, groups, t2_periods)
+    rows = findings_table(found)
+    with open(out_csv, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    period = float(ds.attrs["wave_period"])
+    note = (f"Sweep '{ds.attrs.get('sweep', '')}' at preset '{ds.attrs.get('preset', '')}' "
+            f"(dx = {ds.attrs.get('dx', float('nan')):g} m), runs to t/T = "
+            f"{float(ds['time'][-1]) / period:.2f}; damage at t1/T = "
+            f"{float(ds.attrs['damage_time']) / period:.2f}; dynamic equilibrium taken from "
+            f"t2/T = {t2_periods:g}. Measures: see sph/findings.py.")
+    with open(out_html, "w") as fh:
+        fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
+    for f in found:
+        logging.getLogger("findings").info("%s %s: %s", f.id, f.verdict, f.measured)
+
+
+if __name__ == "__main__":
+    snakemake = globals()["snakemake"]
+    logging.basicConfig(filename=snakemake.log[0], level=logging.INFO,
+                        format="%(levelname)s %(message)s")
+    main(snakemake.input.nc, dict(snakemake.params.groups), float(snakemake.params.t2_periods),
+         snakemake.params.title, snakemake.output.csv, snakemake.output.html)

@@ -1,0 +1,26 @@
+"""Gather the runs of a sweep into one netCDF dataset with a ``case`` dimension.
+
+Rule ``gather``: ``snakemake.input.nc`` (one file per case, in the order of
+``snakemake.params.cases``) -> ``snakemake.output.nc``.
+"""
+
+
+import logging
+
+from sph.output import write_netcdf_atomic
+from sph.study import gather
+
+
+def main(paths, cases, attrs, out) -> None:
+    ds = gather(paths, cases, attrs)
+    write_netcdf_atomic(ds, out)
+    logging.getLogger("gather").info("wrote %s: %d cases, %d times", out, ds.sizes["case"],
+                                     ds.sizes["time"])
+
+
+if __name__ == "__main__":
+    snakemake = globals()["snakemake"]
+    logging.basicConfig(filename=snakemake.log[0], level=logging.INFO,
+                        format="%(levelname)s %(message)s")
+    main(list(snakemake.input.nc), list(snakemake.params.cases), dict(snakemake.params.attrs),
+         snakemake.output.nc)
