@@ -381,7 +381,7 @@ def case_file(tmp_path, capsys):
     return make
 
 
-def _wait_for(predicate, timeout=120.0):
+def _wait_for(predicate, timeout=600.0):
     end = time.monotonic() + timeout
     while not predicate():
         if time.monotonic() > end:
@@ -412,7 +412,7 @@ def test_cli_killed_process_resumes_to_the_same_result(tmp_path, case_file, capl
     try:
         _wait_for(lambda: child.poll() is not None or checkpoint_files(ckpt))
         child.send_signal(sig)
-        _, err = child.communicate(timeout=120)
+        _, err = child.communicate(timeout=600)
     finally:
         child.kill()
     if sig == signal.SIGKILL:
