@@ -424,7 +424,7 @@ def test_cli_killed_process_resumes_to_the_same_result(tmp_path, case_file, capl
     first = checkpoint_files(ckpt)[0]
     assert first.name < "step-0000000540.npz"  # stopped before the end (540 steps)
     with caplog.at_level(logging.INFO, logger="sph"):
-        assert main(argv) == 0, capsys.readouterr().err
+        assert main(argv + ["--threads", "1"]) == 0, capsys.readouterr().err
     resume = [r.getMessage() for r in caplog.records if "resuming from" in r.getMessage()]
     assert len(resume) == 1 and "at t = 0.2" in resume[0] and str(ckpt) in resume[0]
     assert not ckpt.exists()
