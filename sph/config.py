@@ -181,6 +181,8 @@ class Numerics:
     cfl: float = spec(0.2, lo=0.0, lo_open=True, hi=0.5, doc="Courant number")
     euler_interval: int = spec(40, lo=2, hi=10000,
                                doc="steps between Euler re-couplings of the Verlet scheme")
+    shifting: float = spec(0.0, lo=0.0, hi=10.0,
+                           doc="particle shifting coefficient C (Sun et al. 2017); 0 = off")
     wall_layers: int = spec(0, lo=0, hi=20,
                             doc="layers of dummy particles; 0 = enough to cover the support")
     threads: int = spec(0, lo=0, hi=1024, doc="numba threads; 0 = NUMBA_NUM_THREADS")

@@ -20,7 +20,9 @@ The opening travels to the numba kernels as a float array ``op`` (all zeros: no 
 5, 6  keel-frame heights ``w`` of the opening's lower and upper edges
 7-11  mid-surface outline (:func:`sph.hull.shape`)
 12    height of the reference point (centre of gravity) above the keel
-13    reach: particles within this distance of the mid-surface may change compartment
+13    reach: particles within this distance of the mid-surface are checked for their side
+14    margin: a particle rounding the opening's edge within this distance of it changes
+      compartment (beyond it, a particle on the wrong side was pressed through the plating)
 ====  =====================================================================
 """
 
@@ -37,7 +39,9 @@ from .jit import JIT, JIT_PARALLEL, njit
 
 log = logging.getLogger(__name__)
 
-OP_SIZE = 14
+OP_SIZE = 15
+#: bisection steps locating where a segment crosses the mid-surface (1/1024 of its length)
+BISECTIONS = 10
 
 
 def no_opening() -> np.ndarray:
@@ -68,7 +72,17 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
     dj = sdf(uj, wj, s)
     if di * dj > 0.0:
         return False
-    f = di / (di - dj) if di != dj else 0.5
+    # the crossing point by bisection: the signed distance is far from linear along a
+    # segment as long as the kernel support that meets the curved bilge obliquely, and a
+    # linear estimate puts crossings of the bottom plating into the opening
+    fa, fb = 0.0, 1.0
+    for _ in range(BISECTIONS):
+        f = 0.5 * (fa + fb)
+        if sdf(ui + f * (uj - ui), wi + f * (wj - wi), s) * di > 0.0:
+            fa = f
+        else:
+            fb = f
+    f = 0.5 * (fa + fb)
     uc = ui + f * (uj - ui)
     wc = wi + f * (wj - wi)
     return op[4] * uc > 0.0 and op[5] <= wc <= op[6]
@@ -97,27 +111,103 @@ def wall_hidden(xf, zf, xw, zw, bw, op, kin):
     return crosses_opening(xf, zf, xw, zw, op, kin)
 
 
-@njit(**JIT_PARALLEL)
-def reclassify(x, z, kind, comp, op, kin):
-    """Fluid particles in and around the opening take the compartment of their side of
-    the mid-surface (sea outside, cabin inside).
+@njit(**JIT)
+def _normal(u, w, s):
+    """Outward unit normal of the outline ``s`` at the nearest point to ``(u, w)``."""
+    e = 1.0e-6 * (1.0 + s[0])
+    gu = sdf(u + e, w, s) - sdf(u - e, w, s)
+    gw = sdf(u, w + e, s) - sdf(u, w - e, s)
+    n = math.sqrt(gu * gu + gw * gw)
+    if n == 0.0:
+        return 0.0, 1.0
+    return gu / n, gw / n
 
-    The band reaches ``reach`` beyond the opening's edges: a particle that passes the
-    opening close to an edge may round the plating's end, and it belongs to the side it is
-    on (elsewhere along the plating no particle is on the wrong side)."""
+
+@njit(**JIT_PARALLEL)
+def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
+    """Keep the fluid on its side of a thin hull; let it change side through an opening.
+
+    A fluid particle of the hull's sea (``op[1]``) or cabin (``op[2]``) within ``reach``
+    (``op[13]``) of the plating's mid-surface that is found on the wrong side of it has
+    either passed through the open opening or been pushed through the plating:
+
+    * through the opening (the nearest mid-surface point lies on the opening's side within
+      ``op[14]`` of its height range, so that a particle rounding the plating's end counts):
+      it takes the compartment of the side it is on;
+    * through the plating: it is put back at its mirror image across the mid-surface and the
+      velocity component (relative to the hull) that carried it through is removed, from
+      both Verlet velocity levels. Plating thinner than the kernel support holds the fluid
+      by the pressure of its wall layers alone; where a large pressure difference across it
+      meets a sparse wall (at a convex bilge, beside the opening), a particle can be pressed
+      through, and it must not cross."""
     a = int(op[1])
     b = int(op[2])
+    g = int(op[3])
     s = op[7:12]
     reach = op[13]
+    margin = op[14]
+    is_open = op[0] != 0.0
+    ct = math.cos(kin[g, 2])
+    st = math.sin(kin[g, 2])
     for i in prange(x.shape[0]):
-        if kind[i] != 0 or (comp[i] != a and comp[i] != b):
+        ci = comp[i]
+        if kind[i] != 0 or (ci != a and ci != b):
             continue
         u, w = keel_frame(x[i], z[i], op, kin)
-        if op[4] * u <= 0.0 or w < op[5] - reach or w > op[6] + reach:
-            continue
         d = sdf(u, w, s)
-        if abs(d) < reach:
-            comp[i] = b if d < 0.0 else a
+        if abs(d) >= reach or (d < 0.0) == (ci == b):
+            continue
+        nu, nw = _normal(u, w, s)
+        if is_open:
+            fu = u - d * nu
+            fw = w - d * nw
+            if op[4] * fu > 0.0 and op[5] - margin <= fw <= op[6] + margin:
+                comp[i] = b if d < 0.0 else a
+                continue
+        u -= 2.0 * d * nu
+        w -= 2.0 * d * nw
+        rx = ct * u - st * (w - op[12])
+        rz = st * u + ct * (w - op[12])
+        x[i] = kin[g, 0] + rx
+        z[i] = kin[g, 1] + rz
+        nx = ct * nu - st * nw
+        nz = st * nu + ct * nw
+        sign = 1.0 if ci == a else -1.0  # sea moves outwards, cabin inwards
+        wx = kin[g, 3] - kin[g, 5] * rz
+        wz = kin[g, 4] + kin[g, 5] * rx
+        vn = ((vx[i] - wx) * nx + (vz[i] - wz) * nz) * sign
+        if vn < 0.0:
+            vx[i] -= sign * vn * nx
+            vz[i] -= sign * vn * nz
+        vn = ((vx_old[i] - wx) * nx + (vz_old[i] - wz) * nz) * sign
+        if vn < 0.0:
+            vx_old[i] -= sign * vn * nx
+            vz_old[i] -= sign * vn * nz
+
+
+class HullGuard:
+    """Keeps the fluid of each hull segment on its side of the plating (:func:`keep_sides`);
+    applied at every evaluation, after the walls are placed and any opening has appeared.
+
+    Parameters
+    ----------
+    params : list of arrays
+        One ``op`` array per hull (the damaged hull's is the opening's own array, so that the
+        opening counts once it is open)."""
+
+    def __init__(self, params):
+        self.params = list(params)
+
+    def apply(self, sim) -> None:
+        p = sim.parts
+        for op in self.params:
+            keep_sides(p.x, p.z, p.vx, p.vz, p.vx_old, p.vz_old, p.kind, p.comp, op, sim.kin)
+
+    def get_state(self) -> dict:
+        return {}
+
+    def set_state(self, state: dict) -> None:
+        pass
 
 
 class DamageOpening:
@@ -140,8 +230,9 @@ class DamageOpening:
         self.is_open = False
 
     def apply(self, sim) -> None:
-        """Open at ``t1`` (once), then keep the compartments of the particles in the
-        opening up to date (called at every evaluation, after the walls are placed)."""
+        """Open at ``t1`` (once); called at every evaluation, after the walls are placed
+        (the compartments of the particles passing the opening are kept up to date by
+        :class:`HullGuard`)."""
         if not self.is_open and sim.t >= self.time - 1e-12 * max(1.0, self.time):
             p = sim.parts
             keep = ~np.isin(p.pid, self.remove_pids)
@@ -151,9 +242,6 @@ class DamageOpening:
             self.params[0] = 1.0
             log.info("t = %.4g s (step %d): damage opening appears, %d wall particles removed",
                      sim.t, sim.step, int((~keep).sum()))
-        if self.is_open:
-            p = sim.parts
-            reclassify(p.x, p.z, p.kind, p.comp, self.params, sim.kin)
 
     def get_state(self) -> dict:
         return {"is_open": np.array(int(self.is_open))}

@@ -29,10 +29,11 @@ from .filters import mls_density, renormalised_density_gradient
 from .fluid import interact
 from .integrator import max_speed_accel, time_step, verlet_update
 from .jit import set_threads
-from .kernels import kernel_params, support_radius
+from .kernels import kernel_params, support_radius, w_r2
 from .neighbours import CellGrid
 from .particles import FLUID
 from .probes import point_pressures, surface_heights
+from .shifting import apply_shift, shifting_coefficient, shifting_vectors
 from .walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
 
 log = logging.getLogger(__name__)
@@ -103,6 +104,9 @@ class Simulation:
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
+        self.shift_coef = shifting_coefficient(num.shifting, num.cfl, num.c_factor, self.h)
+        self.shift_cap = 0.1 * num.dx
+        self.shift_wdx = w_r2(num.dx * num.dx, self.kp)
         #: damage opening parameters for the kernels (:mod:`sph.damage`)
         self.op = (self.setup.opening.params if self.setup.opening is not None
                    else no_opening())
@@ -140,6 +144,8 @@ class Simulation:
         self._grx = np.zeros(n)
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
+        self._sx = np.zeros(n)
+        self._sz = np.zeros(n)
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
@@ -195,13 +201,19 @@ class Simulation:
         s = self.step + 1
         mls_due = num.density_filter == "mls" and s % num.mls_interval == 0
         euler = mls_due or s % num.euler_interval == 0 or self.step == 0
+        g = self.grid
+        if self.shift_coef:
+            shifting_vectors(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of,
+                             g.cell_start, g.ncx, self.kp, self.shift_coef, self.shift_wdx,
+                             self.shift_cap, self._sx, self._sz, self.op, self.kin)
         if mls_due:
-            g = self.grid
             mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
                         g.ncx, self.kp, self._rho_buf, self.op, self.kin)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)
+        if self.shift_coef:
+            apply_shift(p.x, p.z, self._sx, self._sz, p.kind)
         for body in self.bodies:
             body.update(self.dt, euler)
         self.t += self.dt

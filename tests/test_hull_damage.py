@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from sph.config import ConfigError, build_case
-from sph.damage import OP_SIZE, orifice_rate, passable, reclassify, wall_hidden
+from sph.damage import OP_SIZE, keep_sides, orifice_rate, passable, wall_hidden
 from sph.hull import (
     HullConfig,
     cabin_area,
@@ -186,16 +186,60 @@ def test_probe_next_to_a_wall_reads_the_level():
     assert not fluid_only > level - 0.5 * dx  # NaN or well below the level
 
 
-def test_reclassify_moves_particles_that_crossed():
-    op, kin = _opening()  # opening from w = 0.1 to 2.1, reach 2.0
-    x = np.array([7.7, 8.3, 7.7, 8.3, 7.7, 8.3, 0.0])
-    z = np.array([1.5, 1.5, 3.5, 3.5, 4.5, 4.5, 1.5])
-    kind = np.zeros(7, np.int32)
-    comp = np.array([0, 1, 0, 1, 0, 1, 0], np.int32)  # the first six on the wrong side
-    reclassify(x, z, kind, comp, op, kin)
-    # in the opening and within reach of its edge (a particle rounding the plating's end):
-    # compartment of the side; beyond reach or far from the plating: unchanged
-    assert list(comp) == [1, 0, 1, 0, 0, 1, 0]
+def _guard(op, kin, x, z, comp, vx=None, vz=None):
+    n = len(x)
+    x, z = np.array(x, float), np.array(z, float)
+    vx = np.zeros(n) if vx is None else np.array(vx, float)
+    vz = np.zeros(n) if vz is None else np.array(vz, float)
+    vxo, vzo = vx.copy(), vz.copy()
+    comp = np.array(comp, np.int32)
+    keep_sides(x, z, vx, vz, vxo, vzo, np.zeros(n, np.int32), comp, op, kin)
+    return x, z, vx, vz, vxo, vzo, comp
+
+
+def _near(v):
+    """Equal to ``v`` up to round-off in the mirror and keel-frame transforms."""
+    return pytest.approx(v, abs=1e-9)
+
+
+def test_fluid_changes_compartment_through_the_opening_only():
+    op, kin = _opening()  # opening from w = 0.1 to 2.1 on the +x side, reach 2.0
+    op[14] = 0.4          # a particle rounding the edge within 0.4 m of it counts
+    mid = mid_shape(HULL)[0]  # u of the side's mid-surface (7.95)
+    x, z, vx, vz, vxo, vzo, comp = _guard(
+        op, kin,
+        x=[7.7, 8.3, 7.7, 7.7, 7.7, 8.3, 0.0, -7.7],
+        z=[1.5, 1.5, 2.4, 3.5, 4.5, 4.5, 1.5, 1.5],
+        comp=[0, 1, 0, 0, 0, 1, 0, 0],  # all but the seventh on the wrong side
+        vx=[-1.0, 1.0, -1.0, -2.0, -1.0, 3.0, 0.0, 1.0],
+        vz=[0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0])
+    # in the opening, or past its edge by less than the margin: the side's compartment,
+    # position and velocity as they were
+    assert list(comp[:3]) == [1, 0, 1]
+    assert np.allclose(x[:3], [7.7, 8.3, 7.7]) and np.allclose(vx[:3], [-1.0, 1.0, -1.0])
+    # pressed through the plating above the opening (and on the intact side): sent back to
+    # the mirror point with the velocity across the plating removed, tangential kept
+    assert list(comp[3:]) == [0, 0, 1, 0, 0]
+    assert x[3] == _near(2 * mid - 7.7) and z[3] == _near(3.5)
+    assert vx[3] == _near(0.0) and vz[3] == _near(0.5)
+    assert vxo[3] == _near(0.0)  # the previous Verlet level too
+    assert x[4] == _near(2 * mid - 7.7) and vx[4] == _near(0.0)
+    assert x[5] == _near(2 * mid - 8.3) and vx[5] == _near(0.0)
+    assert x[7] == _near(-(2 * mid - 7.7)) and vx[7] == _near(0.0)
+    # far from the plating (the keel centre, beyond reach): left alone
+    assert x[6] == 0.0 and comp[6] == 0
+
+
+def test_closed_hull_sends_back_whatever_crosses_and_respects_the_hull_velocity():
+    op, kin = _opening(open_=False)
+    op[14] = 0.4
+    kin[0, 3] = -1.0  # hull moving towards -x at 1 m/s
+    x, z, vx, vz, vxo, vzo, comp = _guard(op, kin, x=[7.7, 7.7], z=[1.5, 1.5], comp=[0, 0],
+                                          vx=[-1.0, -3.0])
+    assert list(comp) == [0, 0]
+    assert np.allclose(x, 2 * mid_shape(HULL)[0] - 7.7)
+    # moving with the hull: nothing to remove; faster into it: reduced to the hull's speed
+    assert vx[0] == _near(-1.0) and vx[1] == _near(-1.0)
 
 
 def test_orifice_rate():

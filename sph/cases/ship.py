@@ -28,7 +28,7 @@ import numpy as np
 from ..absorber import AbsorberConfig, absorber_params
 from ..bodies import DofConfig, RigidBody, Shifted
 from ..config import CaseConfig, ConfigError, spec
-from ..damage import OP_SIZE, DamageOpening, fluid_volume
+from ..damage import OP_SIZE, DamageOpening, HullGuard, fluid_volume
 from ..geometry import n_wall_layers
 from ..hull import (
     HullConfig,
@@ -374,21 +374,27 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     if segs[0]["cargo"]:
         force_scale[1] = g.cargo_density / rho0
 
-    # damage opening in the damaged segment
+    # every hull keeps its sea outside and its cabin fluid inside; the damaged segment's
+    # opening (its own parameter array) lets fluid change side through it
     opening = None
     events = []
     d_seg = next((s for s, seg in enumerate(segs) if seg["damaged"]), None)
+    hull_params = []
+    for s in range(n_seg):
+        op = np.zeros(OP_SIZE)
+        op[1:7] = (2 * s, 2 * s + 1, 1 + n_seg + s, side, z0, z1)
+        op[7:12] = mid_shape(hull)
+        op[12] = hull.kg
+        op[13] = support(cfg)
+        op[14] = 0.5 * dx
+        hull_params.append(op)
     if d_seg is not None:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
         remove = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
-        op = np.zeros(OP_SIZE)
-        op[1:7] = (2 * d_seg, 2 * d_seg + 1, 1 + n_seg + d_seg, side, z0, z1)
-        op[7:12] = mid_shape(hull)
-        op[12] = hull.kg
-        op[13] = support(cfg)
-        opening = DamageOpening(g.damage.time_periods * period, op, remove)
+        opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], remove)
         events.append(opening)
+    events.append(HullGuard(hull_params))
 
     # diagnostics: flood volume and ratio; body-fixed probes W1 (cargo cabin), W2 (damaged)
     v_cabin = cabin_area(hull)

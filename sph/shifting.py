@@ -1,0 +1,126 @@
+r"""Particle shifting: keeps the particle distribution regular where the flow would cluster it.
+
+Weakly compressible SPH tracks density along particle paths. Where particles come close to
+each other without the continuity equation seeing them approach, they stay packed at the
+reference density and nothing pushes them apart again: a cluster forms whose particles
+carry too little pressure for their number density, and once it drifts into open water it
+sinks through it (its neighbours do not hold it up), reaching the tank floor at speed. Around
+a thin hull this happens where a particle rounds the plating's edge at a damage opening:
+the fluid on the other side of the plating comes into view (:mod:`sph.damage`) already
+closer than one particle spacing.
+
+The shifting of Sun et al. (2017, delta-plus-SPH; after Lind et al. 2012) moves every fluid
+particle down the gradient of the particle concentration, each step, by
+
+.. math::
+    \delta\mathbf{r}_i = -C\,\mathrm{CFL}\,\mathrm{Ma}\,(2h)^2 \sum_j
+    \left[1 + R\left(\frac{W_{ij}}{W(\Delta x)}\right)^n\right]\nabla_i W_{ij}\,V_j,
+    \qquad R = 0.2,\ n = 4,
+
+with :math:`\mathrm{Ma} = 1/c_{\text{factor}}` (the flow speed the speed of sound was sized
+for) and :math:`C` the config value ``numerics.shifting`` (0 disables it). The sum runs over
+the neighbours the momentum equation sees (same compartment, through an open damage
+opening, wall particles included so that nobody is shifted into a wall). Near the free
+surface, where the concentration gradient is that of the missing air, only the part of the
+shift along the surface is kept (Lind et al. 2012): a particle is taken to be at the surface
+when the divergence of the position, :math:`\nabla\cdot\mathbf{r}_i = -\sum_j V_j
+\mathbf{r}_{ij}\cdot\nabla_i W_{ij}` (2 inside the fluid), is below 1.5. Shifting acts only where
+the particles are packed: the shift is scaled by a gate that is zero while the kernel sum
+:math:`\sum_j V_j W_{ij}` is below ``PACKED`` = 1.05 and reaches one 0.1 above it, so that
+the regular flow (kernel sum one inside, less at the surface) is left exactly as the
+unshifted scheme computes it. A shift is limited to a tenth of the particle spacing per step. Velocities and densities are not corrected for the
+shift (first order in :math:`\delta r`; the density is re-initialised by the MLS filter).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import prange
+
+from .damage import passable, wall_hidden
+from .jit import JIT_PARALLEL, njit
+from .kernels import f_r2, w_r2
+
+#: anti-clustering weight R and exponent n of Sun et al. (2017)
+R_ANTI = 0.2
+#: kernel sum above which a particle counts as packed (shifting starts), and the ramp over
+#: which the shift reaches its full size
+PACKED = 1.05
+PACKED_RAMP = 0.1
+#: divergence of the position below which a particle is treated as a free-surface particle
+SURFACE_DIVR = 1.5
+
+
+def shifting_coefficient(c: float, cfl: float, c_factor: float, h: float) -> float:
+    r""":math:`C\,\mathrm{CFL}\,\mathrm{Ma}\,(2h)^2` with :math:`\mathrm{Ma} = 1/c_{factor}`."""
+    return c * cfl / c_factor * (2.0 * h) ** 2
+
+
+@njit(**JIT_PARALLEL)
+def shifting_vectors(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, coef,
+                     w_dx, cap, sx, sz, op, kin):
+    """Shift ``sx, sz`` of every fluid particle (zero for walls) from the current state."""
+    n = x.shape[0]
+    r2max = kp[3]
+    for i in prange(n):
+        sx[i] = 0.0
+        sz[i] = 0.0
+        if kind[i] != 0:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        gx = 0.0
+        gz = 0.0
+        divr = 0.0
+        shep = m[i] / rho[i] * w_r2(0.0, kp)
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                if r2 >= r2max or j == i:
+                    continue
+                if kind[j] == 0:
+                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
+                                                      kin):
+                        continue
+                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                    continue
+                vj = m[j] / rho[j]
+                wij = w_r2(r2, kp)
+                shep += vj * wij
+                vf = vj * f_r2(r2, kp)
+                q = wij / w_dx
+                q2 = q * q
+                a = vf * (1.0 + R_ANTI * q2 * q2)
+                gx += a * dx
+                gz += a * dz
+                divr -= vf * r2
+        gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
+        if gate == 0.0:
+            continue
+        shx = -coef * gate * gx
+        shz = -coef * gate * gz
+        if divr < SURFACE_DIVR:
+            g2 = gx * gx + gz * gz
+            if g2 > 0.0:  # keep the part along the surface (normal ~ concentration gradient)
+                dot = (shx * gx + shz * gz) / g2
+                shx -= dot * gx
+                shz -= dot * gz
+        s = math.sqrt(shx * shx + shz * shz)
+        if s > cap:
+            shx *= cap / s
+            shz *= cap / s
+        sx[i] = shx
+        sz[i] = shz
+
+
+@njit(**JIT_PARALLEL)
+def apply_shift(x, z, sx, sz, kind):
+    for i in prange(x.shape[0]):
+        if kind[i] == 0:
+            x[i] += sx[i]
+            z[i] += sz[i]
