@@ -28,8 +28,9 @@ when the divergence of the position, :math:`\nabla\cdot\mathbf{r}_i = -\sum_j V_
 the particles are packed: the shift is scaled by a gate that is zero while the kernel sum
 :math:`\sum_j V_j W_{ij}` is below ``PACKED`` = 1.05 and reaches one 0.1 above it, so that
 the regular flow (kernel sum one inside, less at the surface) is left exactly as the
-unshifted scheme computes it. A shift is limited to a tenth of the particle spacing per step. Velocities and densities are not corrected for the
-shift (first order in :math:`\delta r`; the density is re-initialised by the MLS filter).
+unshifted scheme computes it. A shift is limited to a tenth of the particle spacing per
+step. Velocities and densities are not corrected for the shift (first order in
+:math:`\delta r`; the density is re-initialised by the MLS filter).
 """
 
 from __future__ import annotations
