@@ -24,6 +24,18 @@ def lattice(x0: float, x1: float, z0: float, z1: float, dx: float) -> np.ndarray
     return np.column_stack([xx.ravel(), zz.ravel()])
 
 
+def fit_cells(lo: float, hi: float, dx: float) -> tuple[np.ndarray, float]:
+    """Centres and spacing of the cells of one lattice row filling ``[lo, hi]`` exactly (the
+    spacing is stretched from ``dx`` by at most half a spacing over the row, so that the
+    first and last centres sit half a spacing from the ends: free surfaces and walls are
+    where the geometry puts them). No cell when the interval is under half a spacing."""
+    n = int(round((hi - lo) / dx))
+    if n < 1:
+        return np.zeros(0), 0.0
+    s = (hi - lo) / n
+    return lo + (np.arange(n) + 0.5) * s, s
+
+
 @dataclass(frozen=True)
 class RoundedTank:
     """Open-topped tank ``[x0, x0 + width] x [z0, z0 + height]`` with rounded bottom corners.

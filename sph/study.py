@@ -435,6 +435,7 @@ def validation_runs(sweep: Mapping, data_dir: str | Path) -> dict[str, dict[str,
             over = common(sec)
             over["geometry.wavemaker.file"] = str(data_dir / "hadzic2005" /
                                                   "CaseFloatingWavesVal_Flap.dat")
+            over["geometry.wavemaker.file_sign"] = -1  # the file's angles count the other way
             runs[target] = {"box": ("floating_box", over)}
         elif target == "dam_break":
             runs[target] = {"front": ("dam_break", common(sec))}

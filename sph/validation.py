@@ -126,11 +126,15 @@ def decay(runs: Mapping[str, object]) -> list[dict]:
     return rows
 
 
-def hadzic_series(path: str | Path | None = None) -> dict[str, np.ndarray]:
+def hadzic_series(path: str | Path | None = None,
+                  project_signs: bool = True) -> dict[str, np.ndarray]:
     """The Hadzic et al. (2005) series: name -> array of (time, value) rows.
 
     Names: ``WaveProbe_N1``, ``WaveProbe_N2`` (m), ``WP_Heave`` (m), ``WP_Roll`` (degree),
-    ``WP_Sway`` (m).
+    ``WP_Sway`` (m). With ``project_signs`` the roll is given in this project's convention
+    (positive when the top of the body moves towards +x, the direction of wave travel): the
+    file counts it the other way (the simulated roll correlates with the measured one at the
+    lag of heave and sway only after the sign change; ``docs/validation/floating_box.md``).
     """
     if path is None:
         path = validation_data_dir() / "hadzic2005" / "EXP_FloatingWavesVal_Hadzic_et_al_2005.txt"
@@ -147,7 +151,10 @@ def hadzic_series(path: str | Path | None = None) -> dict[str, np.ndarray]:
             except (IndexError, ValueError):
                 continue
             cols[n].append((t, v))
-    return {n: np.array(v) for n, v in cols.items()}
+    out = {n: np.array(v) for n, v in cols.items()}
+    if project_signs and len(out.get("WP_Roll", ())):
+        out["WP_Roll"][:, 1] *= -1.0
+    return out
 
 
 #: experiment series -> (variable, probe, unit)
@@ -168,27 +175,104 @@ def simulated(ds, variable: str, probe: str | None):
     return v.values
 
 
+def series_errors(t, y, te, ye, max_lag: float, dt: float | None = None) -> dict:
+    """Amplitude, phase and shape errors of a simulated series ``(t, y)`` against a measured
+    one ``(te, ye)`` (irregularly sampled, as digitised series are).
+
+    Both are interpolated onto a uniform grid over the measured span (clipped to the run);
+    the simulated series is then shifted by the lag in ``[-max_lag, max_lag]`` that
+    maximises the correlation. Returns
+
+    ``amplitude_ratio``
+        RMS of the simulated series about its mean over the same of the measured one;
+    ``lag``
+        the best shift in s, positive when the simulation lags the measurement;
+    ``correlation``
+        Pearson correlation at that lag (1: same shape);
+    ``rms``, ``nrms``
+        RMS difference without shift, and the same over the measured half range.
+    """
+    t, y, te, ye = (np.asarray(a, float) for a in (t, y, te, ye))
+    lo, hi = max(te[0], t[0]), min(te[-1], t[-1])
+    if hi - lo <= 2.0 * max_lag:
+        raise ValueError(f"the series overlap over {max(hi - lo, 0.0):.3g} s, less than "
+                         f"twice the largest lag {max_lag:g} s")
+    if dt is None:
+        dt = min(float(np.median(np.diff(te))), float(np.median(np.diff(t)))) / 2.0
+    grid = np.arange(lo, hi + 0.5 * dt, dt)
+    e = np.interp(grid, te, ye)
+    rms = float(np.sqrt(np.mean((np.interp(grid, t, y) - e) ** 2)))
+    ec = e - e.mean()
+    best_c, best_lag = -np.inf, 0.0
+    for lag in np.arange(-max_lag, max_lag + 0.5 * dt, dt):
+        s = np.interp(grid + lag, t, y)
+        sc = s - s.mean()
+        den = float(np.sqrt(np.sum(sc * sc) * np.sum(ec * ec)))
+        c = float(np.sum(sc * ec)) / den if den > 0.0 else -np.inf
+        if c > best_c:
+            best_c, best_lag = c, float(lag)
+    s = np.interp(grid, t, y)
+    amp = float(np.std(s) / np.std(e)) if np.std(e) > 0.0 else float("nan")
+    scale = 0.5 * float(np.ptp(e)) or 1.0
+    return dict(amplitude_ratio=amp, lag=best_lag, correlation=best_c, rms=rms,
+                nrms=rms / scale)
+
+
+def dominant_period(t, y) -> float:
+    """Period (s) of the largest peak of the amplitude spectrum of ``y`` (mean removed,
+    resampled uniformly); ``nan`` for a constant series."""
+    t, y = np.asarray(t, float), np.asarray(y, float)
+    dt = float(np.median(np.diff(t)))
+    grid = np.arange(t[0], t[-1], dt)
+    v = np.interp(grid, t, y)
+    v = (v - v.mean()) * np.hanning(len(v))
+    spec = np.abs(np.fft.rfft(v))
+    f = np.fft.rfftfreq(len(v), dt)
+    if len(spec) < 2 or not np.any(spec[1:] > 0.0):
+        return float("nan")
+    return float(1.0 / f[1 + int(np.argmax(spec[1:]))])
+
+
+#: largest lag searched when matching the floating box's series with the experiment: half
+#: the wave group's dominant period (about 0.75 s), so that no lag jumps a whole wave
+BOX_MAX_LAG = 0.35
+
+
+def floating_box_errors(ds, exp: Mapping[str, np.ndarray],
+                        max_lag: float = BOX_MAX_LAG) -> dict[str, dict]:
+    """:func:`series_errors` of each series of a floating box run against the experiment
+    (:func:`hadzic_series` names); series absent from either side, or overlapping the run
+    over less than ``4 max_lag``, are left out."""
+    out = {}
+    t = ds["time"].values
+    for name, (variable, probe, _unit) in HADZIC_MAP.items():
+        y = simulated(ds, variable, probe)
+        data = exp.get(name)
+        if y is None or data is None or len(data) < 5:
+            continue
+        sel = (data[:, 0] >= t[0]) & (data[:, 0] <= t[-1])
+        if sel.sum() < 5 or data[sel, 0][-1] - data[sel, 0][0] < 4.0 * max_lag:
+            continue
+        out[name] = series_errors(t, y, data[sel, 0], data[sel, 1], max_lag)
+    return out
+
+
 def floating_box(runs: Mapping[str, object], exp: Mapping[str, np.ndarray]) -> list[dict]:
-    """Normalised RMS difference between the floating box and the experiment, per series
-    (RMS of the difference over the experiment's samples inside the run / the experiment's
-    half range)."""
+    """Per run and series: amplitude ratio, lag (s), correlation and normalised RMS
+    difference against the experiment (:func:`floating_box_errors`)."""
     rows = []
     for run, ds in runs.items():
-        t = ds["time"].values
-        for name, (variable, probe, unit) in HADZIC_MAP.items():
-            y = simulated(ds, variable, probe)
-            data = exp.get(name)
-            if y is None or data is None or not len(data):
-                continue
-            sel = (data[:, 0] >= t[0]) & (data[:, 0] <= t[-1])
-            if sel.sum() < 5:
-                continue
-            te, ye = data[sel, 0], data[sel, 1]
-            rms = float(np.sqrt(np.mean((np.interp(te, t, y) - ye) ** 2)))
-            scale = 0.5 * float(np.ptp(ye)) or 1.0
-            rows.append(_row("floating_box", f"{run} (dx = {float(ds.attrs['dx']):g} m)",
-                             f"{name} RMS difference", rms, None, unit,
-                             "Hadzic et al. (2005)", error=rms / scale))
+        label = f"{run} (dx = {float(ds.attrs['dx']):g} m)"
+        src = "Hadzic et al. (2005)"
+        for name, e in floating_box_errors(ds, exp).items():
+            unit = HADZIC_MAP[name][2]
+            rows.append(_row("floating_box", label, f"{name} amplitude ratio",
+                             e["amplitude_ratio"], 1.0, "1", src))
+            rows.append(_row("floating_box", label, f"{name} lag", e["lag"], None, "s", src))
+            rows.append(_row("floating_box", label, f"{name} correlation", e["correlation"],
+                             None, "1", src))
+            rows.append(_row("floating_box", label, f"{name} RMS difference", e["rms"], None,
+                             unit, src, error=e["nrms"]))
     return rows
 
 

@@ -6,7 +6,10 @@ direction of wave propagation). It is either
 - sinusoidal, :math:`\theta(t) = \theta_0 r(t)\sin(\omega t)` (Eq. 14) with an optional ramp
   :math:`r(t) = \tfrac12[1 - \cos(\pi t / t_r)]` for :math:`t < t_r`, or
 - read from a file of (time in s, angle in degrees), as the Hadžić et al. (2005) flap signal,
-  with angular velocity and acceleration from a smoothed finite difference.
+  with angular velocity and acceleration from a smoothed finite difference. ``file_sign``
+  converts a file written in the opposite convention: the Hadžić signal is (its first wave
+  reaches the probe at 1.16 m as a trough only with ``file_sign = -1``; see
+  ``docs/validation/floating_box.md``).
 
 Linear wavemaker theory (Dean & Dalrymple 1991, Sec. 6.2) gives the wave height for a flap
 hinged at the bottom of water of depth :math:`h`, with stroke :math:`S = 2 h \tan\theta_0` at
@@ -79,10 +82,15 @@ class FlapConfig:
     omega: float = spec(1.0, lo=0.0, lo_open=True, hi=1.0e3, unit="rad/s", doc="frequency")
     ramp_time: float = spec(0.0, lo=0.0, hi=1.0e6, unit="s", doc="smooth start over this time")
     file: str | None = spec(None, doc="file of (time s, angle degrees); replaces the sinusoid")
+    file_sign: int = spec(1, lo=-1, hi=1,
+                          doc="sign of the file's angles in this project's convention "
+                              "(positive: top of the flap towards +x); 1 or -1")
 
     def check(self, key):
         if self.theta0 is not None and self.amplitude is not None:
             raise ConfigError(f"{key}.amplitude", "give either theta0 or amplitude, not both")
+        if self.file_sign not in (1, -1):
+            raise ConfigError(f"{key}.file_sign", f"must be 1 or -1; got {self.file_sign}")
         if self.file is not None:
             load_flap_file(self.file, f"{key}.file")
 
@@ -126,7 +134,7 @@ class FlapMotion:
         if cfg.file is not None:
             data = load_flap_file(cfg.file)
             self._t = data[:, 0]
-            self._th = np.radians(data[:, 1])
+            self._th = cfg.file_sign * np.radians(data[:, 1])
             self._dth = np.gradient(self._th, self._t)
             self._ddth = np.gradient(self._dth, self._t)
             self.theta0 = float(np.max(np.abs(self._th)))

@@ -40,7 +40,8 @@ def test_floating_box_stays_at_its_hydrostatic_draught():
         "numerics.dx=0.02", "run.t_end=3.0", "run.output_interval=0.02",
         "geometry.depth=0.5", "geometry.tank_length=3.0", "geometry.tank_height=0.8",
         "geometry.box_width=0.4", "geometry.box_height=0.2", "geometry.box_x=1.5",
-        "geometry.box_density=500", "geometry.absorber.enabled=false", "probes.surface=[]"])
+        "geometry.box_density=500", "geometry.box_inertia=null",
+        "geometry.absorber.enabled=false", "probes.surface=[]"])
     ds = sim.dataset()
     draught = 0.1
     weight = 500 * 0.4 * 0.2 * 9.81

@@ -55,7 +55,8 @@ TINY = {
     "floating_box": ("floating_box", [
         "numerics.dx=0.025", "geometry.depth=0.3", "geometry.tank_length=1.0",
         "geometry.tank_height=0.45", "geometry.box_width=0.2", "geometry.box_height=0.1",
-        "geometry.box_x=0.5", "geometry.heave_offset=0.01", "geometry.absorber.enabled=false",
+        "geometry.box_x=0.5", "geometry.box_inertia=null", "geometry.heave_offset=0.01",
+        "geometry.absorber.enabled=false",
         "probes.surface=[{name: WP1, x: 0.25}]", "run.t_end=0.2", "run.output_interval=0.02",
     ]),
     "sloshing_delta": ("sloshing_rect", [

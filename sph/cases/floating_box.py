@@ -17,7 +17,7 @@ import numpy as np
 from ..absorber import AbsorberConfig, absorber_params
 from ..bodies import DofConfig, RigidBody
 from ..config import CaseConfig, ConfigError, spec
-from ..geometry import lattice, n_wall_layers
+from ..geometry import fit_cells, n_wall_layers
 from ..wavemaker import FlapConfig, FlapMotion, wavenumber
 from .base import (
     CaseSetup,
@@ -84,22 +84,31 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     draught = g.box_density / rho0 * g.box_height
     bottom = g.depth - draught + g.heave_offset
     cog = np.array([g.box_x, bottom + 0.5 * g.box_height])
-    # tank, flap and fluid on the tank lattice; fluid kept half a spacing clear of the box
+    # tank and flap on the tank lattice; the fluid in three blocks of columns fitted exactly
+    # to the box's faces (left of it, under it, right of it) and the box a lattice fitted
+    # to its own faces, both symmetric about the box's centre: a box that does not fall on
+    # the tank lattice would otherwise start with a fluid gap wider on one side than on the
+    # other and a particle centroid off its centre of gravity, and heel at release
     pts, inside, tank_mask, body = flap_tank_lattice(dx, layers, g.tank_length, g.tank_height)
-    x, z = pts[:, 0], pts[:, 1]
-    gap = 0.5 * dx
-    in_box = ((np.abs(x - g.box_x) < 0.5 * g.box_width + gap)
-              & (z > bottom - gap) & (z < bottom + g.box_height + gap))
-    fluid_mask = inside & (z < g.depth) & ~in_box
-    walls = pts[tank_mask]
-    # the box: a solid lattice of its own, aligned with its faces
-    box = lattice(-0.5 * g.box_width, 0.5 * g.box_width, -0.5 * g.box_height,
-                  0.5 * g.box_height, dx)
-    walls = np.concatenate([walls, box + cog])
+    xl, xr = g.box_x - 0.5 * g.box_width, g.box_x + 0.5 * g.box_width
+    fluid, vols = [], []
+    for lo, hi, top in ((0.0, xl, g.depth), (xl, xr, min(bottom, g.depth)),
+                        (xr, g.tank_length, g.depth)):
+        xs, sx = fit_cells(lo, hi, dx)
+        zs, sz = fit_cells(0.0, top, dx)
+        xx, zz = np.meshgrid(xs, zs, indexing="ij")
+        fluid.append(np.column_stack([xx.ravel(), zz.ravel()]))
+        vols.append(np.full(xx.size, sx * sz))
+    fluid, vols = np.concatenate(fluid), np.concatenate(vols)
+    bx, _ = fit_cells(-0.5 * g.box_width, 0.5 * g.box_width, dx)
+    bz, _ = fit_cells(-0.5 * g.box_height, 0.5 * g.box_height, dx)
+    xx, zz = np.meshgrid(bx, bz, indexing="ij")
+    box = np.column_stack([xx.ravel(), zz.ravel()])
+    walls = np.concatenate([pts[tank_mask], box + cog])
     body_xz = np.concatenate([pts[tank_mask], box])
     body = np.concatenate([body, np.full(len(box), 2, dtype=np.int32)])
-    parts = make_particles(cfg, pts[fluid_mask], walls, g.depth, g.depth, wall_body=body,
-                           wall_body_xz=body_xz)
+    parts = make_particles(cfg, fluid, walls, g.depth, g.depth, wall_body=body,
+                           wall_body_xz=body_xz, fluid_volume=vols)
     mass = g.box_density * g.box_width * g.box_height
     inertia = g.box_inertia or mass * (g.box_width**2 + g.box_height**2) / 12.0
     flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)

@@ -18,7 +18,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from sph.output import read_dataset  # noqa: E402
-from sph.validation import HADZIC_MAP, hadzic_series, simulated  # noqa: E402
+from sph.validation import (  # noqa: E402
+    HADZIC_MAP,
+    floating_box_errors,
+    hadzic_series,
+    simulated,
+)
 
 UNITS = {"m": "m", "degree": "deg"}
 
@@ -28,21 +33,27 @@ def main(out: str, runs: list[str], data_dir: str | None = None) -> None:
             if data_dir else None)
     exp = hadzic_series(path)
     sets = [read_dataset(p) for p in runs]
+    errors = [floating_box_errors(ds, exp) for ds in sets]
     fig, axes = plt.subplots(len(HADZIC_MAP), 1, figsize=(9, 2.0 * len(HADZIC_MAP)),
                              sharex=True)
     for ax, (name, (variable, probe, unit)) in zip(axes, HADZIC_MAP.items(), strict=True):
         data = exp.get(name)
         if data is not None and len(data):
             ax.plot(data[:, 0], data[:, 1], "k.", ms=2.5, label="Hadzic et al. (2005)")
-        for ds in sets:
+        for ds, err in zip(sets, errors, strict=True):
             y = simulated(ds, variable, probe)
             if y is not None:
-                ax.plot(ds["time"].values, y, lw=1,
-                        label=f"SPH dx = {float(ds.attrs['dx']):g} m")
+                label = f"SPH dx = {float(ds.attrs['dx']):g} m"
+                e = err.get(name)
+                if e is not None:
+                    label += (f": amplitude x{e['amplitude_ratio']:.2f}, lag "
+                              f"{e['lag']:+.3f} s, r = {e['correlation']:.2f}")
+                ax.plot(ds["time"].values, y, lw=1, label=label)
         ax.set_ylabel(f"{name}\n({UNITS[unit]})", fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left")
     axes[-1].set_xlabel("t (s)")
+    axes[-1].set_xlim(left=2.5)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
