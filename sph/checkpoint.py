@@ -65,11 +65,12 @@ RESUMABLE_KEYS = frozenset({
     "title", "numerics.threads", "run.t_end", "run.max_steps", "run.flush_seconds",
     "run.vtk_interval", "run.checkpoint_interval", "run.checkpoint_wall_seconds",
     "run.keep_checkpoints", "run.check_interval", "run.density_min", "run.density_max",
+    "run.max_lost_fraction",
 })
 
 #: scalar entries: name -> (attribute of the Simulation, type)
 _SCALARS = {
-    "t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
+    "t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int, "n_lost": int,
     "wall_seconds": float, "next_output": float, "next_vtk": float,
     "next_checkpoint": float, "warned_c0": bool,
 }

@@ -218,6 +218,10 @@ class Run:
                               doc="blow-up if a fluid density falls below this times rho0")
     density_max: float = spec(1.5, lo=1.0, lo_open=True, hi=10.0,
                               doc="blow-up if a fluid density exceeds this times rho0")
+    max_lost_fraction: float = spec(0.001, lo=0.0, hi=0.1,
+                                    doc="fraction of the fluid particles that may leave the "
+                                        "domain (removed and counted, with a warning) before "
+                                        "the run stops as blown up; 0 = stop at the first")
     flush_seconds: float = spec(60.0, lo=0.0, lo_open=True, hi=1.0e6, unit="s",
                                 doc="wall time between rewrites of the partial output")
     checkpoint_interval: float = spec(0.0, lo=0.0, hi=1.0e6, unit="s",

@@ -12,6 +12,7 @@ Plain Python that drives the numba kernels of the physics modules. One step:
 from __future__ import annotations
 
 import logging
+import math
 import signal
 import threading
 import time as wallclock
@@ -120,6 +121,8 @@ class Simulation:
         self.step = 0
         self.dt = 0.0
         self.n_fluid = int(np.sum(self.parts.kind == FLUID))
+        #: fluid particles that left the domain and were removed (:meth:`_exclude`)
+        self.n_lost = 0
         fmask = self.parts.kind == FLUID
         self.volume0 = float(np.sum(self.parts.m[fmask] / self.parts.rho[fmask]))
         self.record = Record()
@@ -164,9 +167,9 @@ class Simulation:
         g = self.grid
         n_out = g.sort(p.x, p.z)
         if n_out:
-            raise SimulationError(self.step, self.t, f"{n_out} particle(s) left the domain "
-                                  f"x in [{g.bounds[0]:g}, {g.bounds[1]:g}], z in "
-                                  f"[{g.bounds[2]:g}, {g.bounds[3]:g}] m (or are NaN)")
+            self._exclude()
+            p = self.parts
+            g.sort(p.x, p.z)
         p.permute(g.order)
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
@@ -187,6 +190,36 @@ class Simulation:
                         self._fz, self._mom, self._pf, self.force_scale, self.op)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
+
+    def _exclude(self) -> None:
+        """Remove the fluid particles that left the domain, within the budget
+        ``run.max_lost_fraction`` of the initial fluid particles (as SPH codes exclude
+        particles that escape through a wall); stop the run for a NaN position, a wall
+        particle outside the domain or a spent budget."""
+        p, g = self.parts, self.grid
+        xmin, xmax, zmin, zmax = g.bounds
+        inside = (p.x >= xmin) & (p.x <= xmax) & (p.z >= zmin) & (p.z <= zmax)
+        out = ~inside
+        where = (f"the domain x in [{xmin:g}, {xmax:g}], z in [{zmin:g}, {zmax:g}] m")
+        if not np.all(np.isfinite(p.x[out]) & np.isfinite(p.z[out])) \
+                or np.any(p.kind[out] != FLUID):
+            raise SimulationError(self.step, self.t, f"{int(out.sum())} particle(s) left "
+                                  f"{where} (or are NaN)")
+        n_out = int(out.sum())
+        budget = int(self.cfg.run.max_lost_fraction * self.n_fluid)
+        if self.n_lost + n_out > budget:
+            raise SimulationError(self.step, self.t, f"{n_out} fluid particle(s) left {where}"
+                                  f", {self.n_lost + n_out} in all, more than "
+                                  f"run.max_lost_fraction allows ({budget})")
+        k = np.nonzero(out)[0]
+        log.warning("t = %.5g s (step %d): %d fluid particle(s) left %s at (x, z) = %s m, "
+                    "speed %s m/s; removed (%d of %d allowed)", self.t, self.step, n_out,
+                    where, ", ".join(f"({p.x[i]:.3g}, {p.z[i]:.3g})" for i in k[:5]),
+                    ", ".join(f"{math.hypot(p.vx[i], p.vz[i]):.3g}" for i in k[:5]),
+                    self.n_lost + n_out, budget)
+        self.n_lost += n_out
+        self.parts = p.take(inside)
+        self._allocate_work()
 
     def advance(self) -> None:
         """One time step (derivatives at the current level must be up to date)."""
@@ -299,6 +332,7 @@ class Simulation:
         attrs.update(case=self.cfg.case, title=self.cfg.title, status=self.status,
                      steps=self.step, wall_clock_seconds=round(self.wall_seconds, 3),
                      threads=self.threads, n_fluid=self.n_fluid, n_total=self.parts.n,
+                     lost_particles=self.n_lost,
                      speed_of_sound=self.c0, smoothing_length=self.h,
                      kernel=self.cfg.numerics.kernel,
                      density_filter=self.cfg.numerics.density_filter, dx=self.cfg.numerics.dx,

@@ -117,7 +117,7 @@ def test_early_inflow_through_the_opening_is_of_the_orifice_order():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="open problem: 13-16 s after the damage a stream of particles "
+@pytest.mark.xfail(reason="was an open problem: 13-16 s after the damage a stream of particles "
                           "that left the cabin sinks to the tank floor and the run stops "
                           "(README, 'The ship')", strict=False)
 def test_flooded_ship_settles_at_the_lost_buoyancy_draught():

@@ -29,7 +29,7 @@ from ..absorber import AbsorberConfig, absorber_params
 from ..bodies import DofConfig, RigidBody, Shifted
 from ..config import CaseConfig, ConfigError, spec
 from ..damage import OP_SIZE, DamageOpening, HullGuard, fluid_volume
-from ..geometry import n_wall_layers
+from ..geometry import fit_cells, n_wall_layers
 from ..hull import (
     HullConfig,
     cabin_area,
@@ -216,18 +216,6 @@ def _opening_pids(hull, shell_uw, side, z0, z1, pids):
     return pids[in_open[nearest]]
 
 
-def _columns(top, bottom, dx):
-    """Rows of one lattice column filling ``[bottom, top]`` exactly: centres and spacing
-    (the spacing is stretched from ``dx`` by at most half a spacing over the column, so
-    that the first and last rows sit half a spacing from the ends: the free surface and the
-    walls are where the geometry says)."""
-    n = int(round((top - bottom) / dx))
-    if n < 1:
-        return np.zeros(0), 0.0
-    dz = (top - bottom) / n
-    return bottom + (np.arange(n) + 0.5) * dz, dz
-
-
 def _sea_columns(g, dx, xs, cog, theta, outer):
     """Sea particles of one segment's tank: the lattice columns ``xs`` of the tank, each
     filled from the tank bottom to the still level or to the hull bottom above it; returns
@@ -247,7 +235,7 @@ def _sea_columns(g, dx, xs, cog, theta, outer):
                 top = fine[k - 1] + (fine[k] - fine[k - 1]) * d[k - 1] / (d[k - 1] - d[k]) \
                     if k > 0 else 0.0
                 under = True
-        zs, dz = _columns(top, 0.0, dx)
+        zs, dz = fit_cells(0.0, top, dx)
         if not len(zs):
             continue
         col = np.column_stack([np.full_like(zs, xc), zs])
@@ -266,7 +254,7 @@ def _cargo_columns(hull, fill, dx, inner):
     and the level."""
     level = hull.plating + fill * hull.depth
     width = hull.breadth - 2.0 * hull.plating
-    us, du = _columns(0.5 * width, -0.5 * width, dx)
+    us, du = fit_cells(-0.5 * width, 0.5 * width, dx)
     fine = np.linspace(hull.plating, level, int(math.ceil((level - hull.plating)
                                                            / (0.02 * dx))) + 1)
     pts, vols = [], []
@@ -278,7 +266,7 @@ def _cargo_columns(hull, fill, dx, inner):
         k = wet[0]
         bottom = fine[k - 1] + (fine[k] - fine[k - 1]) * d[k - 1] / (d[k - 1] - d[k]) \
             if k > 0 else fine[0]
-        ws, dz = _columns(level, bottom, dx)
+        ws, dz = fit_cells(bottom, level, dx)
         if not len(ws):
             continue
         col = np.column_stack([np.full_like(ws, uc), ws])
@@ -391,8 +379,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     if d_seg is not None:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
-        remove = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
-        opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], remove)
+        in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
+        opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
 
@@ -445,7 +433,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  roll_inertia=inertia, cabin_area=v_cabin, segments=n_seg,
                  segment_weights=" ".join(f"{seg['weight']:.6g}" for seg in segs),
                  segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
-                 removed_wall_particles=len(opening.remove_pids) if opening else 0)
+                 opening_wall_particles=len(opening.opening_pids) if opening else 0)
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
                        diagnostics=diagnostics, attrs=attrs,
                        absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch),
