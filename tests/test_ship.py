@@ -117,9 +117,9 @@ def test_early_inflow_through_the_opening_is_of_the_orifice_order():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="was an open problem: 13-16 s after the damage a stream of particles "
-                          "that left the cabin sinks to the tank floor and the run stops "
-                          "(README, 'The ship')", strict=False)
+@pytest.mark.xfail(reason="open problem: the damaged tank's sea slowly loses potential energy "
+                          "(particles pack) and 43 s after the damage particles reach the "
+                          "tank floor (README, 'The ship')", strict=False)
 def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
     """Flooding to equilibrium: the mean heave over the last 10 s agrees within 5 % with the
     lost-buoyancy equilibrium of the strip model (:func:`sph.hull.flooded_equilibrium`: each
