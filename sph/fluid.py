@@ -41,13 +41,15 @@ from numba import prange
 
 from .damage import passable, wall_hidden
 from .jit import JIT_PARALLEL, njit
-from .kernels import f_r2
+from .kernels import f_r2, w_given_f, w_r2
+from .shifting import shift_vector
 
 
 @njit(**JIT_PARALLEL)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
-             visc_coef, gx, gz, delta_coef, grx, grz, ax, az, drho, op, kin):
-    """Accelerations ``ax, az`` and density rates ``drho`` of all fluid particles.
+             visc_coef, gx, gz, delta_coef, grx, grz, ax, az, drho, op, kin, shift, sx, sz):
+    """Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
+    particle shifts ``sx, sz`` (:mod:`sph.shifting`) of all fluid particles.
 
     Parameters
     ----------
@@ -59,11 +61,17 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
         Renormalised density gradient of each particle (delta-SPH only).
     op, kin : arrays
         Damage opening (:mod:`sph.damage`) and body kinematics (:mod:`sph.walls`).
+    shift : array
+        ``[coef, W(dx), cap]`` of :func:`sph.shifting.shift_params`; ``coef = 0`` disables
+        shifting and leaves ``sx, sz`` untouched. The kernel sum that decides whether a
+        particle is packed is taken in this pair loop; only packed particles search their
+        neighbours again for the shift (:func:`sph.shifting.shift_vector`).
     """
     n = x.shape[0]
     r2max = kp[3]
     eps2 = 1.0e-4 * kp[1] * kp[1]
     use_delta = delta_coef != 0.0
+    use_shift = shift[0] != 0.0
     for i in prange(n):
         if kind[i] != 0:
             continue
@@ -80,6 +88,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
         accz = 0.0
         div = 0.0
         diff = 0.0
+        shep = m[i] / rhoi * w_r2(0.0, kp) if use_shift else 0.0
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
@@ -112,6 +121,11 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                                            - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
                 accx += coef * fw * dx
                 accz += coef * fw * dz
+                if use_shift:
+                    shep += vj * w_given_f(r2, fw, kp)
         ax[i] = accx + gx
         az[i] = accz + gz
         drho[i] = rhoi * div + delta_coef * diff
+        if use_shift:
+            sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
+                                        cell_start, ncx, kp, op, kin, shift)

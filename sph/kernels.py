@@ -77,6 +77,15 @@ def w_r2(r2, kp):
 
 
 @njit(**JIT)
+def w_given_f(r2, fw, kp):
+    """Kernel value at ``r2`` inside the support when its gradient factor ``fw`` is known
+    (the Gaussian's value follows from ``fw`` without a second exponential)."""
+    if kp[0] == 0.0:
+        return -0.5 * fw * kp[1] * kp[1] - kp[2] * 1.2340980408667956e-04
+    return w_r2(r2, kp)
+
+
+@njit(**JIT)
 def f_r2(r2, kp):
     r"""Gradient factor :math:`F`, :math:`\nabla_i W_{ij} = F\,\mathbf{r}_{ij}`; 0 outside."""
     if r2 >= kp[3]:

@@ -20,6 +20,7 @@ FLOAT_FIELDS = (
     "x", "z", "vx", "vz", "rho", "p", "m",
     "vx_old", "vz_old", "rho_old",  # previous level of the leapfrog (Verlet) scheme
     "ax", "az", "drho",  # time derivatives from the last evaluation
+    "sx", "sz",  # particle shift from the last evaluation (sph.shifting)
     "bx", "bz",  # wall particles: position in the frame of their body (rest position)
 )
 #: integer fields

@@ -20,7 +20,10 @@ particle down the gradient of the particle concentration, each step, by
 with :math:`\mathrm{Ma} = 1/c_{\text{factor}}` (the flow speed the speed of sound was sized
 for) and :math:`C` the config value ``numerics.shifting`` (0 disables it). The sum runs over
 the neighbours the momentum equation sees (same compartment, through an open damage
-opening, wall particles included so that nobody is shifted into a wall). Near the free
+opening, wall particles included so that nobody is shifted into a wall), The kernel sum
+that decides whether a particle is packed is taken in the momentum equation's pair loop
+(:func:`sph.fluid.interact`, one multiply-add per pair); only the packed particles, few in
+a regular flow, search their neighbours again for the gradient. Near the free
 surface, where the concentration gradient is that of the missing air, only the part of the
 shift along the surface is kept (Lind et al. 2012): a particle is taken to be at the surface
 when the divergence of the position, :math:`\nabla\cdot\mathbf{r}_i = -\sum_j V_j
@@ -37,11 +40,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import prange
 
 from .damage import passable, wall_hidden
-from .jit import JIT_PARALLEL, njit
-from .kernels import f_r2, w_r2
+from .jit import JIT, JIT_PARALLEL, njit
+from .kernels import f_r2, w_given_f, w_r2
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
 R_ANTI = 0.2
@@ -58,65 +62,68 @@ def shifting_coefficient(c: float, cfl: float, c_factor: float, h: float) -> flo
     return c * cfl / c_factor * (2.0 * h) ** 2
 
 
-@njit(**JIT_PARALLEL)
-def shifting_vectors(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, coef,
-                     w_dx, cap, sx, sz, op, kin):
-    """Shift ``sx, sz`` of every fluid particle (zero for walls) from the current state."""
-    n = x.shape[0]
+def shift_params(c: float, cfl: float, c_factor: float, kp, dx: float) -> np.ndarray:
+    """``[coef, W(dx), cap]`` for :func:`sph.fluid.interact` (``coef = 0``: no shifting);
+    ``c`` is ``numerics.shifting``, the cap a tenth of the particle spacing."""
+    return np.array([shifting_coefficient(c, cfl, c_factor, kp[1]), w_r2(dx * dx, kp),
+                     0.1 * dx])
+
+
+@njit(**JIT)
+def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, op,
+                 kin, shift):
+    r"""Shift of fluid particle ``i`` whose kernel sum :math:`\sum_j V_j W_{ij}` (itself
+    included) is ``shep``; ``shift = [coef, W(dx), cap]``. Zero unless the particle is
+    packed; then the concentration gradient and the divergence of the position are summed
+    over the neighbours the momentum equation sees."""
+    gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
+    if gate == 0.0:
+        return 0.0, 0.0
+    xi = x[i]
+    zi = z[i]
+    ci = comp[i]
+    inv_wdx = 1.0 / shift[1]
     r2max = kp[3]
-    for i in prange(n):
-        sx[i] = 0.0
-        sz[i] = 0.0
-        if kind[i] != 0:
-            continue
-        xi = x[i]
-        zi = z[i]
-        ci = comp[i]
-        gx = 0.0
-        gz = 0.0
-        divr = 0.0
-        shep = m[i] / rho[i] * w_r2(0.0, kp)
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or j == i:
+    gx = 0.0
+    gz = 0.0
+    divr = 0.0
+    c = cell_of[i]
+    for row in (c - ncx, c, c + ncx):
+        for j in range(cell_start[row - 1], cell_start[row + 2]):
+            dx = xi - x[j]
+            dz = zi - z[j]
+            r2 = dx * dx + dz * dz
+            if r2 >= r2max or j == i:
+                continue
+            if kind[j] == 0:
+                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
                     continue
-                if kind[j] == 0:
-                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
-                                                      kin):
-                        continue
-                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
-                    continue
-                vj = m[j] / rho[j]
-                wij = w_r2(r2, kp)
-                shep += vj * wij
-                vf = vj * f_r2(r2, kp)
-                q = wij / w_dx
-                q2 = q * q
-                a = vf * (1.0 + R_ANTI * q2 * q2)
-                gx += a * dx
-                gz += a * dz
-                divr -= vf * r2
-        gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
-        if gate == 0.0:
-            continue
-        shx = -coef * gate * gx
-        shz = -coef * gate * gz
-        if divr < SURFACE_DIVR:
-            g2 = gx * gx + gz * gz
-            if g2 > 0.0:  # keep the part along the surface (normal ~ concentration gradient)
-                dot = (shx * gx + shz * gz) / g2
-                shx -= dot * gx
-                shz -= dot * gz
-        s = math.sqrt(shx * shx + shz * shz)
-        if s > cap:
-            shx *= cap / s
-            shz *= cap / s
-        sx[i] = shx
-        sz[i] = shz
+            elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                continue
+            vj = m[j] / rho[j]
+            fw = f_r2(r2, kp)
+            q = w_given_f(r2, fw, kp) * inv_wdx
+            q2 = q * q
+            vf = vj * fw
+            a = vf * (1.0 + R_ANTI * q2 * q2)
+            gx += a * dx
+            gz += a * dz
+            divr -= vf * r2
+    coef = shift[0]
+    shx = -coef * gate * gx
+    shz = -coef * gate * gz
+    if divr < SURFACE_DIVR:
+        g2 = gx * gx + gz * gz
+        if g2 > 0.0:  # keep the part along the surface (normal ~ concentration gradient)
+            dot = (shx * gx + shz * gz) / g2
+            shx -= dot * gx
+            shz -= dot * gz
+    s = math.sqrt(shx * shx + shz * shz)
+    cap = shift[2]
+    if s > cap:
+        shx *= cap / s
+        shz *= cap / s
+    return shx, shz
 
 
 @njit(**JIT_PARALLEL)

@@ -30,11 +30,11 @@ from .filters import mls_density, renormalised_density_gradient
 from .fluid import interact
 from .integrator import max_speed_accel, time_step, verlet_update
 from .jit import set_threads
-from .kernels import kernel_params, support_radius, w_r2
+from .kernels import kernel_params, support_radius
 from .neighbours import CellGrid
 from .particles import FLUID
 from .probes import point_pressures, surface_heights
-from .shifting import apply_shift, shifting_coefficient, shifting_vectors
+from .shifting import apply_shift, shift_params
 from .walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
 
 log = logging.getLogger(__name__)
@@ -105,9 +105,8 @@ class Simulation:
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
                            if num.density_filter == "delta" else 0.0)
-        self.shift_coef = shifting_coefficient(num.shifting, num.cfl, num.c_factor, self.h)
-        self.shift_cap = 0.1 * num.dx
-        self.shift_wdx = w_r2(num.dx * num.dx, self.kp)
+        #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.shifting`; coef 0: off)
+        self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
         #: damage opening parameters for the kernels (:mod:`sph.damage`)
         self.op = (self.setup.opening.params if self.setup.opening is not None
                    else no_opening())
@@ -147,8 +146,6 @@ class Simulation:
         self._grx = np.zeros(n)
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
-        self._sx = np.zeros(n)
-        self._sz = np.zeros(n)
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
@@ -183,7 +180,7 @@ class Simulation:
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho, self.op,
-                 self.kin)
+                 self.kin, self.shift, p.sx, p.sz)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
@@ -235,18 +232,14 @@ class Simulation:
         mls_due = num.density_filter == "mls" and s % num.mls_interval == 0
         euler = mls_due or s % num.euler_interval == 0 or self.step == 0
         g = self.grid
-        if self.shift_coef:
-            shifting_vectors(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of,
-                             g.cell_start, g.ncx, self.kp, self.shift_coef, self.shift_wdx,
-                             self.shift_cap, self._sx, self._sz, self.op, self.kin)
         if mls_due:
             mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
                         g.ncx, self.kp, self._rho_buf, self.op, self.kin)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)
-        if self.shift_coef:
-            apply_shift(p.x, p.z, self._sx, self._sz, p.kind)
+        if self.shift[0]:
+            apply_shift(p.x, p.z, p.sx, p.sz, p.kind)
         for body in self.bodies:
             body.update(self.dt, euler)
         self.t += self.dt

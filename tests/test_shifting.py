@@ -14,9 +14,10 @@ import numpy as np
 import pytest
 
 from sph.damage import no_opening
+from sph.fluid import interact
 from sph.kernels import kernel_params, w_r2
 from sph.neighbours import CellGrid
-from sph.shifting import PACKED, apply_shift, shifting_coefficient, shifting_vectors
+from sph.shifting import PACKED, apply_shift, shift_params, shifting_coefficient
 from sph.walls import fixed_kinematics
 
 DX = 0.1
@@ -45,8 +46,7 @@ class _State:
         self.kp = kernel_params("gaussian", 1.23 * DX)
         r = math.sqrt(self.kp[3])
         self.grid = CellGrid(-1.0, 4.0, -1.0, 4.0, r)
-        self.coef = shifting_coefficient(1.0, 0.2, 10.0, 1.23 * DX)
-        self.sx, self.sz = np.zeros(n), np.zeros(n)
+        self.shift_params = shift_params(1.0, 0.2, 10.0, self.kp, DX)
 
     def shift(self):
         g = self.grid
@@ -54,11 +54,15 @@ class _State:
         o = g.order
         for name in ("x", "z", "rho", "m", "kind", "body", "comp"):
             setattr(self, name, getattr(self, name)[o].copy())
-        self.sx, self.sz = np.zeros(len(o)), np.zeros(len(o))
-        shifting_vectors(self.x, self.z, self.rho, self.m, self.kind, self.body, self.comp,
-                         g.cell_of, g.cell_start, g.ncx, self.kp, self.coef,
-                         w_r2(DX * DX, self.kp), 0.1 * DX, self.sx, self.sz, no_opening(),
-                         fixed_kinematics(1))
+        n = len(o)
+        self.sx, self.sz = np.zeros(n), np.zeros(n)
+        zero = np.zeros(n)
+        ax, az, drho = np.zeros(n), np.zeros(n), np.zeros(n)
+        # the shift is summed in the pair loop of the momentum equation (at rest, no pressure)
+        interact(self.x, self.z, zero, zero, self.rho, zero, self.m, self.kind, self.body,
+                 self.comp, g.cell_of, g.cell_start, g.ncx, self.kp, 0.0, 0.0, 0.0, 0.0, zero,
+                 zero, ax, az, drho, no_opening(), fixed_kinematics(1), self.shift_params,
+                 self.sx, self.sz)
         return self.sx, self.sz
 
     def kernel_sums(self):
@@ -110,3 +114,13 @@ def test_shifting_coefficient_scales_with_h_squared():
     assert shifting_coefficient(1.0, 0.2, 10.0, 2.0) == pytest.approx(
         4.0 * shifting_coefficient(1.0, 0.2, 10.0, 1.0))
     assert shifting_coefficient(0.0, 0.2, 10.0, 1.0) == 0.0
+
+
+def test_kernel_value_from_its_gradient_factor():
+    """The shift's kernel values come from the momentum equation's gradient factor."""
+    from sph.kernels import f_r2, w_given_f
+    for name in ("gaussian", "wendland"):
+        kp = kernel_params(name, 1.3 * DX)
+        for r2 in np.linspace(0.0, kp[3], 50, endpoint=False):
+            assert w_given_f(r2, f_r2(r2, kp), kp) == pytest.approx(w_r2(r2, kp), rel=1e-12,
+                                                                    abs=1e-12 * kp[2])
