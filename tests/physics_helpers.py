@@ -1,10 +1,12 @@
-"""Small helpers shared by the physics tests."""
+"""Small helpers shared by the tests."""
 
 from __future__ import annotations
 
 import os
 
+import numpy as np
 import pytest
+import xarray as xr
 
 from sph.analysis import validation_data_dir
 from sph.cases.base import load_defaults
@@ -26,3 +28,19 @@ def require_validation_data():
             pytest.fail(f"validation data not found at {d} (set SPH_VALIDATION_DATA)")
         pytest.skip(f"validation data not found at {d} (set SPH_VALIDATION_DATA)")
     return d
+
+
+def assert_same_series(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Every variable and coordinate equal bit for bit (NaN where NaN), same dtypes."""
+    assert sorted(a.variables) == sorted(b.variables)
+    for name in a.variables:
+        x, y = a[name].values, b[name].values
+        assert x.shape == y.shape, name
+        if x.dtype.kind in "OUS":  # labels: str in memory, object when read from a file
+            assert [str(v) for v in x.ravel()] == [str(v) for v in y.ravel()], name
+            continue
+        assert x.dtype == y.dtype, name
+        if x.dtype.kind == "f":
+            assert np.array_equal(x, y, equal_nan=True), name
+        else:
+            assert np.array_equal(x, y), name

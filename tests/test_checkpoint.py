@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from physics_helpers import assert_same_series
 
 from sph.cases.base import load_defaults
 from sph.checkpoint import (
@@ -89,22 +90,6 @@ def _reference(name) -> Simulation:
     if name not in _REFERENCE:
         _REFERENCE[name] = Simulation(_cfg(name)).run()
     return _REFERENCE[name]
-
-
-def assert_same_series(a: xr.Dataset, b: xr.Dataset) -> None:
-    """Every variable and coordinate equal bit for bit (NaN where NaN), same dtypes."""
-    assert sorted(a.variables) == sorted(b.variables)
-    for name in a.variables:
-        x, y = a[name].values, b[name].values
-        assert x.shape == y.shape, name
-        if x.dtype.kind in "OUS":  # labels: str in memory, object when read from a file
-            assert [str(v) for v in x.ravel()] == [str(v) for v in y.ravel()], name
-            continue
-        assert x.dtype == y.dtype, name
-        if x.dtype.kind == "f":
-            assert np.array_equal(x, y, equal_nan=True), name
-        else:
-            assert np.array_equal(x, y), name
 
 
 def _stop_and_resume(name, tmp_path, stop_step, **resume_kw):
@@ -564,53 +549,3 @@ def test_blow_up_keeps_output_and_checkpoints(tmp_path, case_file, capsys):
     t_more = round(t_stop + 0.1, 2)
     assert main(argv + ["--set", "run.density_max=1.3", "--set", f"run.t_end={t_more}"]) == 0
     assert read_dataset(out)["time"].values[-1] == pytest.approx(t_more, abs=0.011)
-
-
-# --------------------------------------------------------------------------- workflow
-
-
-SNAKEFILE = """\
-rule simulate:
-    input: "case.yaml"
-    output: "results/still.nc"
-    log: "logs/still.log"
-    shell: "{python} -m sph.cli run {{input}} -o {{output}} --no-progress {sets} 2> {{log}}"
-"""
-
-
-def test_snakemake_killed_then_rerun_resumes_the_case(tmp_path, case_file, capsys):
-    """A workflow killed during a case (SIGKILL to Snakemake and its job, as a pre-empted
-    node) and run again with ``--rerun-incomplete`` resumes the case from its checkpoint;
-    the log shows the resume time and the result equals an uninterrupted run's."""
-    pytest.importorskip("snakemake")
-    path = case_file("still_water")
-    work = tmp_path / "wf"
-    work.mkdir()
-    (work / "case.yaml").write_text(path.read_text())
-    sets = LONGER[:-2] + ["run.t_end=1.0", "run.checkpoint_interval=0.2"]
-    quoted = " ".join(f"--set '{s}'" for s in sets).replace("{", "{{").replace("}", "}}")
-    (work / "Snakefile").write_text(SNAKEFILE.format(python=sys.executable, sets=quoted))
-    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(ROOT))
-    smk = [sys.executable, "-m", "snakemake", "--cores", "1", "results/still.nc"]
-    wf = subprocess.Popen(smk, cwd=work, env=env, start_new_session=True,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    ckpt = work / "results" / "still.nc.ckpt"
-    try:
-        _wait_for(lambda: wf.poll() is not None or checkpoint_files(ckpt))
-        os.killpg(wf.pid, signal.SIGKILL)
-        wf.wait(timeout=60)
-    finally:
-        wf.kill()
-    assert wf.returncode == -signal.SIGKILL
-    assert checkpoint_files(ckpt)
-    for extra in (["--unlock"], ["--rerun-incomplete"]):
-        done = subprocess.run(smk + extra, cwd=work, env=env, capture_output=True, timeout=300)
-        assert done.returncode == 0, done.stderr.decode()[-3000:]
-    log = (work / "logs" / "still.log").read_text()
-    assert "resuming from checkpoint results/still.nc.ckpt/step-" in log
-    assert " at t = 0.2" in log
-    assert not ckpt.exists()
-    ref = tmp_path / "ref.nc"
-    argv = ["run", str(path), "-o", str(ref), "--no-progress"] + _sets(sets)
-    assert main(argv) == 0, capsys.readouterr().err
-    assert_same_series(read_dataset(work / "results" / "still.nc"), read_dataset(ref))

@@ -1,5 +1,6 @@
 """Tests of the Snakemake workflow: dry runs of the default sweep, refused configurations,
-lint, and the toy configuration (.test/) run end to end with the report.
+lint, the toy configuration (.test/) run end to end with the report, and a workflow killed
+during a case that resumes it from its checkpoint.
 
 Each test runs snakemake in a copy of the workflow (Snakefile, config/, workflow/, .test/) in a
 temporary folder, with the interpreter running the tests; the rules call the engine as `sph`
@@ -12,6 +13,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -20,6 +22,11 @@ from pathlib import Path
 import pytest
 import xarray as xr
 import yaml
+from physics_helpers import assert_same_series
+
+from sph.checkpoint import checkpoint_files
+from sph.cli import main
+from sph.output import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 N_TABLE_ONE = 8
@@ -207,3 +214,45 @@ def test_changing_one_case_reruns_only_that_case(toy):
     assert counts["gather"] == 1 and counts["findings"] == 1
     for rule in ("simulate_validation", "validation_case_file", "validation_summary"):
         assert rule not in counts
+
+
+def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
+    """Issue: a workflow killed during a case (SIGKILL to Snakemake and its job, as a
+    pre-empted node) and run again with ``--rerun-incomplete`` resumes the case from the
+    engine's checkpoint through the project's own rules; the case's log shows the resume
+    time and its dataset equals an uninterrupted run's, bit for bit (the checkpoint holds
+    the complete state, open damage opening included: ``tests/test_checkpoint.py``)."""
+    work = _workflow_copy(tmp_path)
+    sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
+    # checkpoints every 0.5 s of simulated time; the opening appears before the first
+    sweep["set"] = {"run.checkpoint_interval": 0.5, "geometry.damage.time_periods": 0.05}
+    (work / ".test" / "resume.yaml").write_text(yaml.safe_dump(sweep))
+    target = "results/test/cases/case3.nc"
+    args = [target, "--cores", "1", "--configfile", ".test/resume.yaml"]
+    env = dict(_env(tmp_path), NUMBA_NUM_THREADS="1")
+    wf = subprocess.Popen([sys.executable, "-m", "snakemake", *args], cwd=work, env=env,
+                          start_new_session=True, stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL)
+    ckpt = work / (target + ".ckpt")
+    try:
+        end = time.monotonic() + 600
+        while wf.poll() is None and not checkpoint_files(ckpt):
+            assert time.monotonic() < end, "no checkpoint written"
+            time.sleep(0.002)
+        os.killpg(wf.pid, signal.SIGKILL)
+        wf.wait(timeout=60)
+    finally:
+        wf.kill()
+    assert wf.returncode == -signal.SIGKILL, "the case finished before it could be killed"
+    assert checkpoint_files(ckpt) and not (work / target).exists()
+    assert _snakemake(work, "--unlock", *args).returncode == 0
+    res = _snakemake(work, "--rerun-incomplete", *args)
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    log = (work / "results/test/logs/simulate/case3.log").read_text()
+    assert f"resuming from checkpoint {target}.ckpt/step-" in log, log
+    assert " at t = 0.5" in log, log
+    assert not ckpt.exists()  # a completed run removes its checkpoints
+    ref = tmp_path / "ref.nc"
+    assert main(["run", str(work / "results/test/cases/case3.yaml"), "-o", str(ref),
+                 "--no-progress"]) == 0
+    assert_same_series(read_dataset(work / target), read_dataset(ref))
