@@ -1,0 +1,106 @@
+"""Where a damaged-ship time step goes: seconds per engine stage and particle-steps per second.
+
+Builds the built-in ``damaged_ship`` case (coarse dx = 0.8 m unless ``--dx``: two strip
+segments, 13 976 fluid + 3 290 wall particles, the cost unit of a Table I case of the
+workflow) with the damage opening already open (``--damage-period``, in wave periods, 0.005
+by default: the line-of-sight tests at the opening run from the start), warms up, then times
+``--steps`` steps with every stage of :meth:`sph.solver.Simulation.evaluate` and
+``advance`` wrapped in a timer. Prints the stages by time and, as its last line, a JSON
+object (median rate over ``--repeat`` runs, and the stage times of the last one).
+
+    python benchmarks/ship_step_profile.py [--threads 1] [--steps 300] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import statistics
+import time
+
+from sph import solver
+from sph.cases.base import load_defaults
+from sph.config import apply_overrides, build_case
+from sph.neighbours import CellGrid
+from sph.particles import Particles
+
+#: engine stages called from the solver module (numba kernels)
+STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
+          "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
+          "max_speed_accel")
+
+
+def _timed(fn, name, timers):
+    def wrapper(*args, **kwargs):
+        t0 = time.perf_counter()
+        out = fn(*args, **kwargs)
+        timers[name] += time.perf_counter() - t0
+        return out
+    return wrapper
+
+
+def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: int,
+            shifting: float) -> tuple[int, float, dict]:
+    timers: dict[str, float] = collections.defaultdict(float)
+    originals = {name: getattr(solver, name) for name in STAGES}
+    sort, permute = CellGrid.sort, Particles.permute
+    try:
+        for name, fn in originals.items():
+            setattr(solver, name, _timed(fn, name, timers))
+        CellGrid.sort = _timed(sort, "cell sort", timers)
+        Particles.permute = _timed(permute, "permute", timers)
+        cfg = build_case(apply_overrides(load_defaults("damaged_ship"), [
+            ("numerics.dx", dx), ("numerics.threads", threads),
+            ("numerics.shifting", shifting),
+            ("geometry.damage.time_periods", damage_period)]))
+        sim = solver.Simulation(cfg)
+        for event in sim.setup.events:
+            event.apply = _timed(event.apply, type(event).__name__, timers)
+        for body in sim.bodies:
+            body.update = _timed(body.update, "rigid body", timers)
+        sim.evaluate()
+        for _ in range(warmup):
+            sim.advance()
+        timers.clear()
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            sim.advance()
+        wall = time.perf_counter() - t0
+    finally:
+        for name, fn in originals.items():
+            setattr(solver, name, fn)
+        CellGrid.sort, Particles.permute = sort, permute
+    stages = dict(sorted(timers.items(), key=lambda kv: -kv[1]))
+    stages["other"] = wall - sum(timers.values())
+    return sim.parts.n, sim.parts.n * steps / wall, {k: v / wall for k, v in stages.items()}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--dx", type=float, default=0.8)
+    ap.add_argument("--damage-period", type=float, default=0.005)
+    ap.add_argument("--shifting", type=float, default=1.0)
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--warmup", type=int, default=20)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    rates = []
+    for _ in range(args.repeat):
+        n, rate, shares = measure(args.dx, args.damage_period, args.steps, args.warmup,
+                                  args.threads, args.shifting)
+        rates.append(rate)
+    for name, share in shares.items():
+        print(f"{name:32s} {100 * share:5.1f} %")
+    med = statistics.median(rates)
+    print(f"damaged_ship dx = {args.dx:g} m  N = {n}  {med / 1e6:.2f} M particle-steps/s "
+          f"(runs: {', '.join(f'{r / 1e6:.2f}' for r in rates)}; {args.threads} thread(s))")
+    print(json.dumps({"particles": n, "particle_steps_per_s": round(med), "runs":
+                      [round(r) for r in rates], "threads": args.threads, "dx": args.dx,
+                      "shifting": args.shifting, "stage_shares": {k: round(v, 4) for k, v
+                                                                   in shares.items()}}))
+
+
+if __name__ == "__main__":
+    main()
