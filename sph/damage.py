@@ -34,7 +34,17 @@ The opening travels to the numba kernels as a float array ``op`` (all zeros: no 
 13    reach: particles within this distance of the mid-surface are checked for their side
 14    margin: a particle rounding the opening's edge within this distance of it changes
       compartment (beyond it, a particle on the wrong side was pressed through the plating)
+15,16 centre of a circle around the opening's part of the mid-surface, in the hull's frame
+      (``u``, ``w`` minus the reference height)
+17    squared reach of that circle: its radius plus the kernel support (0: no quick test)
+18,19 the same centre in earth coordinates at the current kinematics (updated by
+      :class:`DamageOpening` at every evaluation)
 ====  =====================================================================
+
+The circle makes the line-of-sight test cheap where it cannot succeed: a segment shorter than
+the kernel support that crosses the mid-surface inside the opening has both ends within the
+reach of the centre, so a pair with one end farther away is answered without the keel-frame
+transform and the bisection (the test is exact: it only skips pairs that cannot cross).
 """
 
 from __future__ import annotations
@@ -50,7 +60,7 @@ from .jit import JIT, JIT_PARALLEL, njit
 
 log = logging.getLogger(__name__)
 
-OP_SIZE = 15
+OP_SIZE = 20
 #: bisection steps locating where a segment crosses the mid-surface (1/1024 of its length)
 BISECTIONS = 10
 
@@ -76,6 +86,11 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
     opening."""
     if op[0] == 0.0:
         return False
+    if op[17] > 0.0:
+        ex = xi - op[18]
+        ez = zi - op[19]
+        if ex * ex + ez * ez > op[17]:
+            return False
     s = op[7:12]
     ui, wi = keel_frame(xi, zi, op, kin)
     uj, wj = keel_frame(xj, zj, op, kin)
@@ -244,7 +259,13 @@ class DamageOpening:
     def apply(self, sim) -> None:
         """Open at ``t1`` (once); called at every evaluation, after the walls are placed
         (the compartments of the particles passing the opening are kept up to date by
-        :class:`HullGuard`)."""
+        :class:`HullGuard`). Places the opening's centre (``op[18:20]``) at the current
+        kinematics."""
+        op = self.params
+        k = sim.kin[int(op[3])]
+        ct, st = math.cos(k[2]), math.sin(k[2])
+        op[18] = k[0] + ct * op[15] - st * op[16]
+        op[19] = k[1] + st * op[15] + ct * op[16]
         if not self.is_open and sim.t >= self.time - 1e-12 * max(1.0, self.time):
             self.is_open = True
             self.params[0] = 1.0
@@ -253,11 +274,12 @@ class DamageOpening:
                      len(self.opening_pids))
 
     def get_state(self) -> dict:
-        return {"is_open": np.array(int(self.is_open))}
+        return {"is_open": np.array(int(self.is_open)), "centre": self.params[18:20].copy()}
 
     def set_state(self, state: dict) -> None:
         self.is_open = bool(int(state["is_open"]))
         self.params[0] = 1.0 if self.is_open else 0.0
+        self.params[18:20] = state["centre"]
 
 
 def fluid_volume(m, rho, kind, comp, c) -> float:

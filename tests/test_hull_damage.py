@@ -284,3 +284,43 @@ def test_narrow_opening_warns(caplog):
     with caplog.at_level(logging.WARNING):
         build_case(_case(damage={"opening": 0.4}))  # 1.68 m = 2.1 dx
     assert any("particle spacings" in r.getMessage() for r in caplog.records)
+
+
+def test_quick_reach_test_changes_no_line_of_sight_answer():
+    """The circle around the opening (``op[15:20]``) answers far pairs without the keel-frame
+    transform and the bisection; it must give exactly the answers of the full test, for a
+    hull that is moved and heeled, and decide most pairs near the hull by itself."""
+    from types import SimpleNamespace
+
+    from sph.cases.ship import _opening_circle
+    from sph.damage import DamageOpening, crosses_opening
+
+    reach = 2.0
+    z1 = 2.1
+    op = np.zeros(OP_SIZE)
+    op[:7] = (1.0, 0, 1, 0, 1.0, HULL.plating, z1)
+    op[7:12] = mid_shape(HULL)
+    op[12] = HULL.kg
+    op[13] = reach
+    op[15:18] = _opening_circle(HULL, 1.0, HULL.plating, z1, reach)
+    kin = fixed_kinematics(1)
+    kin[0, :3] = (40.0, 27.0, math.radians(8.0))  # reference point moved, hull heeled
+    DamageOpening(0.0, op, np.zeros(0, np.int64)).apply(SimpleNamespace(kin=kin, t=0.0, step=0))
+    full = op.copy()
+    full[17] = 0.0  # no quick test
+    rng = np.random.default_rng(3)
+    ct, st = math.cos(kin[0, 2]), math.sin(kin[0, 2])
+    n, quick, crossing = 4000, 0, 0
+    for _ in range(n):
+        # a point within a metre of the hull's outline, and a partner within the reach
+        u, w = rng.uniform(-10.0, 10.0), rng.uniform(-1.0, 10.0)
+        xi = kin[0, 0] + ct * u - st * (w - HULL.kg)
+        zi = kin[0, 1] + st * u + ct * (w - HULL.kg)
+        a, r = rng.uniform(0.0, 2.0 * math.pi), reach * math.sqrt(rng.uniform())
+        xj, zj = xi + r * math.cos(a), zi + r * math.sin(a)
+        got = crosses_opening(xi, zi, xj, zj, op, kin)
+        assert got == crosses_opening(xi, zi, xj, zj, full, kin)
+        crossing += got
+        quick += (xi - op[18]) ** 2 + (zi - op[19]) ** 2 > op[17]
+    assert crossing > 20  # the sample does cross the opening
+    assert quick > 0.8 * n

@@ -216,6 +216,19 @@ def _opening_pids(hull, shell_uw, side, z0, z1, pids):
     return pids[in_open[nearest]]
 
 
+def _opening_circle(hull, side, z0, z1, reach):
+    """Centre (hull frame: ``u``, ``w - kg``) and squared reach of a circle holding the
+    opening's part of the mid-surface, widened by ``reach`` (the kernel support) and a
+    margin for the bisection's tolerance (:func:`sph.damage.crosses_opening`)."""
+    spacing = 0.01 * hull.plating + 1e-3
+    mid = outline_points(mid_shape(hull), spacing)
+    span = mid[(side * mid[:, 0] > 0.0) & (mid[:, 1] >= z0) & (mid[:, 1] <= z1)]
+    lo, hi = span.min(axis=0), span.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    radius = 0.5 * float(np.hypot(*(hi - lo))) + 2.0 * spacing
+    return centre[0], centre[1] - hull.kg, (radius + 1.05 * reach) ** 2
+
+
 def _sea_columns(g, dx, xs, cog, theta, outer):
     """Sea particles of one segment's tank: the lattice columns ``xs`` of the tank, each
     filled from the tank bottom to the still level or to the hull bottom above it; returns
@@ -380,6 +393,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
         in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
+        hull_params[d_seg][15:18] = _opening_circle(hull, side, z0, z1, support(cfg))
         opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
