@@ -20,7 +20,7 @@ particle down the gradient of the particle concentration, each step, by
 with :math:`\mathrm{Ma} = 1/c_{\text{factor}}` (the flow speed the speed of sound was sized
 for) and :math:`C` the config value ``numerics.shifting`` (0 disables it). The sum runs over
 the neighbours the momentum equation sees (same compartment, through an open damage
-opening, wall particles included so that nobody is shifted into a wall), The kernel sum
+opening, wall particles included so that nobody is shifted into a wall). The kernel sum
 that decides whether a particle is packed is taken in the momentum equation's pair loop
 (:func:`sph.fluid.interact`, one multiply-add per pair); only the packed particles, few in
 a regular flow, search their neighbours again for the gradient. Near the free
