@@ -171,10 +171,12 @@ class Numerics:
                        doc="smoothing kernel: improved Gaussian (3h support) or Wendland C2 (2h)")
     h_factor: float | None = spec(None, lo=1.0, hi=2.0,
                                   doc="h/dx; default 1.23 (gaussian) or 1.41 (wendland)")
-    density_filter: str = spec("mls", choices=("mls", "delta", "none"),
-                               doc="MLS re-initialisation, delta-SPH diffusion, or none")
+    density_filter: str = spec("mls", choices=("mls", "delta", "ddt", "none"),
+                               doc="MLS re-initialisation, delta-SPH diffusion with the "
+                                   "renormalised density gradient (delta) or with the "
+                                   "hydrostatic density difference subtracted (ddt), or none")
     mls_interval: int = spec(20, lo=1, hi=10000, doc="steps between MLS re-initialisations")
-    delta: float = spec(0.1, lo=0.0, hi=1.0, doc="delta-SPH coefficient")
+    delta: float = spec(0.1, lo=0.0, hi=1.0, doc="delta-SPH coefficient (delta and ddt)")
     alpha: float = spec(0.02, lo=0.0, hi=1.0, doc="artificial viscosity coefficient")
     c_factor: float = spec(10.0, lo=3.0, hi=200.0,
                            doc="speed of sound c0 = c_factor * sqrt(g * depth)")

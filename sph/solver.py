@@ -104,7 +104,9 @@ class Simulation:
         self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
         self.visc_coef = 2.0 * num.alpha * self.h * self.c0
         self.delta_coef = (num.delta * self.h * self.c0
-                           if num.density_filter == "delta" else 0.0)
+                           if num.density_filter in ("delta", "ddt") else 0.0)
+        #: rho0 / c0^2: the hydrostatic form of the diffusive term (0: renormalised form)
+        self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.shifting`; coef 0: off)
         self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
         #: damage opening parameters for the kernels (:mod:`sph.damage`)
@@ -173,13 +175,14 @@ class Simulation:
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                       g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
                       self.b, fl.gamma, self.cfg.numerics.dx**2, self.op)
-        if self.delta_coef:
+        if self.delta_coef and not self.ddt_rho:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz,
                                           self.op, self.kin)
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
-                 self.delta_coef, self._grx, self._grz, p.ax, p.az, p.drho, self.op,
+                 self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
+                 self.op,
                  self.kin, self.shift, p.sx, p.sz)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,

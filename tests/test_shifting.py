@@ -60,8 +60,8 @@ class _State:
         ax, az, drho = np.zeros(n), np.zeros(n), np.zeros(n)
         # the shift is summed in the pair loop of the momentum equation (at rest, no pressure)
         interact(self.x, self.z, zero, zero, self.rho, zero, self.m, self.kind, self.body,
-                 self.comp, g.cell_of, g.cell_start, g.ncx, self.kp, 0.0, 0.0, 0.0, 0.0, zero,
-                 zero, ax, az, drho, no_opening(), fixed_kinematics(1), self.shift_params,
+                 self.comp, g.cell_of, g.cell_start, g.ncx, self.kp, 0.0, 0.0, 0.0, 0.0, 0.0,
+                 zero, zero, ax, az, drho, no_opening(), fixed_kinematics(1), self.shift_params,
                  self.sx, self.sz)
         return self.sx, self.sz
 

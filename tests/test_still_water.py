@@ -16,7 +16,7 @@ from physics_helpers import run_builtin
 G, H, L = 9.81, 1.0, 1.0
 
 
-@pytest.mark.parametrize("density_filter", ["mls", "delta", "none"])
+@pytest.mark.parametrize("density_filter", ["mls", "delta", "ddt", "none"])
 def test_still_water_hydrostatic_and_at_rest(density_filter):
     sim = run_builtin("still_water", [
         "numerics.dx=0.05", f"numerics.density_filter={density_filter}", "run.t_end=2.0",
