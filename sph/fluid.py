@@ -29,7 +29,7 @@ Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid pa
     - \left(\langle\nabla\rho\rangle^L_i + \langle\nabla\rho\rangle^L_j\right)
 
 with the renormalised density gradient of :func:`sph.filters.renormalised_density_gradient`.
-The ``ddt`` variant (Fourtakas et al. 2019, as in DualSPHysics) needs no gradient pass: it
+The ``ddt`` variant (Fourtakas et al. 2019) needs no gradient pass: it
 subtracts the hydrostatic density difference of the pair instead,
 
 .. math::
