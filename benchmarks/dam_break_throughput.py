@@ -47,7 +47,7 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--warmup", type=int, default=50)
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--filter", default="mls", choices=("mls", "delta", "none"))
+    ap.add_argument("--filter", default="mls", choices=("mls", "delta", "ddt", "none"))
     ap.add_argument("--sizes", default="20k,80k")
     ap.add_argument("--kernels", default="wendland,gaussian")
     args = ap.parse_args()
