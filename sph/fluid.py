@@ -100,8 +100,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
         rhoi = rho[i]
         pi = p[i]
         ci = comp[i]
-        gxi = grx[i] if use_delta and not use_ddt else 0.0
-        gzi = grz[i] if use_delta and not use_ddt else 0.0
+        gxi = grx[i] if use_delta else 0.0
+        gzi = grz[i] if use_delta else 0.0
         accx = 0.0
         accz = 0.0
         div = 0.0
