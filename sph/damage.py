@@ -3,7 +3,7 @@ r"""Sudden side damage of a cabin: the opening, the pair rule through it, and fl
 At ``t1`` the plating of the opening (the damaged cabin's side, from the cabin bottom up to
 ``delta = delta_bar d``) is taken away (Cao et al. 2019, Sec. IV A). From then on two fluid
 particles of the sea and of the damaged cabin interact when the straight segment between
-them crosses the plating's mid-surface inside the opening (DESIGN §2), and a fluid particle
+them crosses the plating's mid-surface inside the opening, and a fluid particle
 that passes through the opening changes compartment when it crosses the mid-surface
 (:func:`keep_sides`). Every other pair across the plating stays separated.
 

@@ -5,7 +5,7 @@ rounded bilges of radius ``R``, vertical sides and a closed flat deck, with plat
 thickness ``t`` much thinner than the kernel support. Coordinates here are the *keel frame*
 ``(u, w)``: ``u`` across the ship from the centre line, ``w`` up from the outer bottom.
 
-Thin walls (DESIGN §2): each face of the plating gets its own layers of dummy particles.
+Thin walls: each face of the plating gets its own layers of dummy particles.
 The outer face's layers run *into* the hull and belong to the sea compartment; the inner
 face's layers run *out* of it and belong to the cabin. The two sets overlap in space with the
 other side's fluid, and since a pair of particles interacts only when their compartments

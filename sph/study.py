@@ -43,9 +43,9 @@ import yaml
 
 from .config import ConfigError
 
-#: sides of the damage opening (DESIGN §3)
+#: sides of the damage opening
 SIDES = ("back", "head")
-#: validation targets the workflow knows (DESIGN §6)
+#: validation targets the workflow knows
 VALIDATION_TARGETS = ("wave_tank", "sloshing", "decay", "floating_box", "dam_break")
 #: columns of a case table
 CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "description")

@@ -1,4 +1,4 @@
-"""Validation-ladder metrics (DESIGN §6) measured on the workflow's validation runs.
+"""Validation-ladder metrics measured on the workflow's validation runs.
 
 Each function takes the runs of one target (opened netCDF datasets) and returns rows
 ``target, run, quantity, measured, reference, unit, error, source``: ``error`` is the relative

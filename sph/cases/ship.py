@@ -1,6 +1,6 @@
 """The paper's ship in beam seas (Cao et al. 2019, Sec. IV): strip segments, cargo, damage.
 
-Strip theory (DESIGN §2-3): the ship of three equal cabins is simulated as 2-D segments, each
+Strip theory: the ship of three equal cabins is simulated as 2-D segments, each
 its own wave tank with the same flap wavemaker, all carrying one rigid body (sway, heave,
 roll). By symmetry two segments suffice: an intact cabin standing for two cabins' length
 (weight 2/3, cargo at fill ratio eta) and the damaged middle cabin (weight 1/3, empty until
@@ -8,7 +8,7 @@ the side opening appears at ``t1``). The segments' tanks lie side by side along 
 metres apart, and their compartments are numbered ``2 s`` (sea) and ``2 s + 1`` (cabin).
 
 The ship's mass is the displacement at draught d; the cargo's mass is taken from the hull's
-own (DESIGN §3), whose centre of gravity height ``kg`` and radius of gyration ``gyradius``
+own, whose centre of gravity height ``kg`` and radius of gyration ``gyradius``
 are case values. A cargo lighter than the sea water (``cargo_density``) is simulated as
 water whose force on the hull is scaled by ``cargo_density / rho0`` (in a single liquid
 the flow does not depend on its density).
