@@ -24,12 +24,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .study import DEFAULT_AMPLITUDE
+
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
 NEAR_MINIMUM = 0.10
 #: the flood-volume fluctuation counts as "about 10 %" inside this band
 FLUCTUATION_BAND = (0.05, 0.20)
 #: "slightly larger" means a ratio inside this band
 SLIGHTLY_LARGER = (1.0, 1.25)
+#: "the same" heave equilibrium: mean heaves after t2 spread by at most this fraction of the
+#: largest sinkage (the spread of the mean over a window of a few periods at coarse dx)
+SAME_EQUILIBRIUM = 0.10
 
 
 @dataclass(frozen=True)
@@ -123,13 +128,20 @@ def fraction_text(x: float, max_den: int = 21) -> str:
 
 
 def case_label(case: Mapping) -> str:
-    """A short label of a case in the paper's notation."""
+    """A short label of a case in the paper's notation; the wave amplitude is named when it
+    is not Table I's (A / d = 10/21)."""
     if case["opening"] == 0:
         base = "intact"
     else:
         minus = "-" if case["side"] == "head" else ""
         base = f"δ̄{minus} = {fraction_text(case['opening'])}"
-    return f"{base}, η = {100 * case['fill']:g} %"
+    label = f"{base}, η = {100 * case['fill']:g} %"
+    amp = float(case.get("amplitude", DEFAULT_AMPLITUDE))
+    if amp == 0.0:
+        label += ", still water"
+    elif abs(amp - DEFAULT_AMPLITUDE) > 1e-9:
+        label += f", Ā = {fraction_text(amp)}"
+    return label
 
 
 # ------------------------------------------------------------------------------ findings
@@ -376,6 +388,51 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         out.append(_judged("F12", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s)
                            + f"; head / back = {ratio:.3f} (slightly larger: {lo:g}-{hi:g})",
                            lo <= ratio <= hi, amp.values()))
+
+    # Fig. 10: the reference opening in still water and in waves of several amplitudes
+    amps = [c for c in groups.get("amplitude", []) if s.cases[c]["opening"] > 0]
+    still = [c for c in amps if s.cases[c]["amplitude"] == 0.0]
+    waves = [c for c in amps if s.cases[c]["amplitude"] > 0.0]
+
+    # F13: the initial inflow is slower in waves than in still water
+    st, pp = ("The initial inflow is slower in waves than in still water (the wave's and the "
+              "flooding water's heeling moments oppose each other)", "Sec. IV B, Fig. 10(c)")
+    if not (still and waves):
+        missing("F13", st, pp, "the reference opening in still water and in waves")
+    else:
+        rate = {c: inflow_rate(s.t, s.series(c, "flood_volume"), s.t1, s.period)
+                for c in still[:1] + waves}
+        out.append(_judged("F13", st, pp, "mean inflow rate over [t1, t1 + T/2] (m2/s): "
+                           + _fmt(rate, s), all(rate[c] < rate[still[0]] for c in waves),
+                           rate.values()))
+
+    # F14: the same heave equilibrium whatever the wave amplitude
+    st, pp = ("Whatever the wave amplitude, the damaged ship heaves about the same new "
+              "equilibrium", "Sec. IV B, Fig. 10(b)")
+    if len(amps) < 2:
+        missing("F14", st, pp, "the reference opening at two or more wave amplitudes")
+    elif not s.steady_covered:
+        out.append(Finding("F14", st, pp, steady_note, None))
+    else:
+        mean = {c: float(np.nanmean(s.steady(c, "heave"))) for c in amps}
+        sink = max(abs(v) for v in mean.values())
+        spread = max(mean.values()) - min(mean.values())
+        out.append(_judged("F14", st, pp, "mean heave after t2 (m): " + _fmt(mean, s)
+                           + f"; spread {spread:.3g} m = {100 * spread / sink:.3g} % of the "
+                           f"largest sinkage (the same: at most {100 * SAME_EQUILIBRIUM:g} %)",
+                           spread <= SAME_EQUILIBRIUM * sink, mean.values()))
+
+    # F15: the heave amplitude follows the wave amplitude
+    st, pp = ("The heave amplitude after t2 is set mainly by the wave amplitude: it grows "
+              "with it", "Sec. IV B, Fig. 10(b)")
+    if len(amps) < 2:
+        missing("F15", st, pp, "the reference opening at two or more wave amplitudes")
+    elif not s.steady_covered:
+        out.append(Finding("F15", st, pp, steady_note, None))
+    else:
+        amp = {c: amplitude(s.steady(c, "heave")) for c in amps}
+        out.append(_judged("F15", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s),
+                           _increasing(list(amp.values())), amp.values()))
     return out
 
 

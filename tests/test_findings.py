@@ -26,7 +26,7 @@ GROUPS = study.groups(CASES, study.check_cases([dict(case="r", opening="10/21", 
                                                      fill=0)])[0])
 
 
-def _sweep(params: dict, t_end: float = 12 * T):
+def _sweep(params: dict, t_end: float = 12 * T, cases=CASES):
     """A sweep dataset whose series follow ``params[case]``: roll amplitude after t2
     (``roll``), largest roll after t1 (``kick``), heave mean (``sink``) and amplitude
     (``heave``), flood volume final level (``q``), first-peak overshoot (``peak``), initial
@@ -34,7 +34,7 @@ def _sweep(params: dict, t_end: float = 12 * T):
     t = np.arange(0.0, t_end + 1e-9, 0.05)
     after = t >= T1
     data = {k: [] for k in ("roll", "heave", "flood_volume", "flood_ratio", "probe_elevation")}
-    for c in CASES:
+    for c in cases:
         p = params[c["case"]]
         w = np.sin(t)
         roll = p["roll"] * w
@@ -56,11 +56,11 @@ def _sweep(params: dict, t_end: float = 12 * T):
             data[k].append(v)
     ds = xr.Dataset(
         {k: (("case", "time"), np.array(v)) for k, v in data.items() if k != "probe_elevation"},
-        coords=dict(time=t, case=[c["case"] for c in CASES],
-                    opening=("case", [c["opening"] for c in CASES]),
-                    side=("case", [c["side"] for c in CASES]),
-                    fill=("case", [c["fill"] for c in CASES]),
-                    amplitude=("case", [c["amplitude"] for c in CASES]),
+        coords=dict(time=t, case=[c["case"] for c in cases],
+                    opening=("case", [c["opening"] for c in cases]),
+                    side=("case", [c["side"] for c in cases]),
+                    fill=("case", [c["fill"] for c in cases]),
+                    amplitude=("case", [c["amplitude"] for c in cases]),
                     probe=["WP1", "WP2", "W1", "W2"]),
         attrs=dict(wave_period=T, damage_time=T1))
     ds["probe_elevation"] = (("case", "probe", "time"), np.array(data["probe_elevation"]))
@@ -89,9 +89,10 @@ def _verdicts(ds, t2=7.0):
 
 def test_every_finding_holds_on_paper_like_data():
     out = findings.compute_findings(_sweep(_paper_like()), GROUPS, 7.0)
-    assert [f.id for f in out] == [f"F{k}" for k in range(1, 13)]
+    assert [f.id for f in out] == [f"F{k}" for k in range(1, 16)]
     bad = {f.id: f.measured for f in out if f.holds is not True}
-    assert not bad
+    assert set(bad) == {"F13", "F14", "F15"}  # Table I has one wave amplitude
+    assert all(m.startswith("not in this sweep") for m in bad.values())
 
 
 @pytest.mark.parametrize("fid, case, change", [
@@ -153,3 +154,93 @@ def test_html_table_lists_every_finding():
     page = findings.findings_html(out, "demo", "note")
     assert page.count("<tr>") == len(out) + 1
     assert "12 holds" in page
+
+
+# Fig. 10: the reference opening in still water and at three wave amplitudes (A / d)
+AMP_CASES = study.check_cases([
+    dict(case="still", opening="10/21", side="back", fill=0, amplitude=0),
+    dict(case="a05", opening="10/21", side="back", fill=0, amplitude="5/21"),
+    dict(case="a075", opening="10/21", side="back", fill=0, amplitude="5/14"),
+    dict(case="a15", opening="10/21", side="back", fill=0, amplitude="5/7"),
+])
+AMP_GROUPS = study.groups(AMP_CASES, study.check_cases([dict(case="r", opening="10/21",
+                                                             side="back", fill=0)])[0])
+
+
+def _amplitude_like():
+    """The paper's Fig. 10: faster inflow in still water, one heave equilibrium, heave
+    amplitude growing with the wave."""
+    base = dict(roll=5.0, rate=8.0, q=60.0, peak=0.2, fluct=0.10, sink=1.7)
+    return {"still": dict(base, rate=12.0, heave=0.02),
+            "a05": dict(base, heave=0.3), "a075": dict(base, heave=0.45, sink=1.75),
+            "a15": dict(base, heave=0.9, sink=1.65)}
+
+
+def _amp_verdicts(p, t_end=12 * T):
+    ds = _sweep(p, t_end=t_end, cases=AMP_CASES)
+    return {f.id: f for f in findings.compute_findings(ds, AMP_GROUPS, 7.0)}
+
+
+def test_amplitude_group_is_sorted_by_the_wave():
+    assert AMP_GROUPS["amplitude"] == ["still", "a05", "a075", "a15"]
+
+
+def test_amplitude_findings_hold_on_paper_like_data():
+    out = _amp_verdicts(_amplitude_like())
+    for fid in ("F13", "F14", "F15"):
+        assert out[fid].holds is True, out[fid].measured
+    assert "spread 0.1 m" in out["F14"].measured
+
+
+@pytest.mark.parametrize("fid, case, change", [
+    ("F13", "a05", dict(rate=13.0)),   # a wave case floods faster than still water
+    ("F14", "a15", dict(sink=1.3)),    # the largest wave settles 0.45 m higher: 25 % of 1.75
+    ("F15", "a075", dict(heave=0.2)),  # a larger wave heaves less than a smaller one
+])
+def test_each_amplitude_finding_can_fail(fid, case, change):
+    p = _amplitude_like()
+    p[case] = dict(p[case], **change)
+    assert _amp_verdicts(p)[fid].holds is False
+
+
+def test_amplitude_findings_need_the_steady_window():
+    out = _amp_verdicts(_amplitude_like(), t_end=6 * T)
+    assert out["F13"].holds is True
+    assert out["F14"].holds is None and out["F15"].holds is None
+
+
+def test_case_labels_name_the_wave_when_it_is_not_table_ones():
+    labels = [findings.case_label(c) for c in AMP_CASES]
+    assert labels[0].endswith("still water") and labels[1].endswith("Ā = 5/21")
+    assert findings.case_label(CASES[2]) == "δ̄ = 10/21, η = 0 %"
+
+
+def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, monkeypatch):
+    """The Fig. 10 analogue (workflow/scripts/fig_ship.py) from the amplitude sweep: three
+    panels (roll, heave, Q/V), one line per case, labelled by the wave amplitude."""
+    import importlib.util
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    script = Path(__file__).resolve().parents[1] / "workflow" / "scripts" / "fig_ship.py"
+    spec = importlib.util.spec_from_file_location("fig_ship", script)
+    fig_ship = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(fig_ship)
+    nc = tmp_path / "wave_amplitude.nc"
+    _sweep(_amplitude_like(), cases=AMP_CASES).to_netcdf(nc)
+    drawn = {}
+    savefig = plt.Figure.savefig
+
+    def keep(fig, out, **kw):
+        drawn["axes"] = fig.axes
+        return savefig(fig, out, **kw)
+
+    monkeypatch.setattr(plt.Figure, "savefig", keep)
+    fig_ship.main(tmp_path / "fig10.png", nc, ["roll", "heave", "flood_ratio"],
+                  AMP_GROUPS["amplitude"], "amplitude", 7.0)
+    assert (tmp_path / "fig10.png").stat().st_size > 10_000
+    axes = drawn["axes"]
+    assert [ax.get_ylabel() for ax in axes] == ["roll (deg)", "heave (m)", "Q/V"]
+    labels = [t.get_text() for t in axes[0].get_legend().get_texts()]
+    assert labels == ["still water", "A/d = 5/21", "A/d = 5/14", "A/d = 5/7"]

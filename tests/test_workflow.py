@@ -102,6 +102,15 @@ def test_dry_run_of_the_example_sweep(work):
     assert "results/openings_fill/openings_fill.nc" in res.stdout
 
 
+def test_dry_run_of_the_wave_amplitude_sweep(work):
+    res = _snakemake(work, "-n", "--configfile", "config/sweeps/wave_amplitude.yaml")
+    assert res.returncode == 0, res.stderr + res.stdout
+    counts = _job_counts(res.stdout)
+    assert counts["simulate_case"] == 5
+    assert counts["ship_figure"] == 1  # only Fig. 10 compares these cases
+    assert "results/wave_amplitude/figures/fig10_amplitude.png" in res.stdout
+
+
 def test_presets_select_the_resolution(work):
     res = _snakemake(work, "-n", "--config", "preset=paper")
     assert res.returncode == 0, res.stderr + res.stdout

@@ -19,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from sph.findings import case_label  # noqa: E402
+from sph.findings import case_label, fraction_text  # noqa: E402
 from sph.output import read_dataset  # noqa: E402
 
 LABELS = {
@@ -65,7 +65,8 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
             case, name = (key, line) if probes_per_case else (line, key)
             label = name if probes_per_case else case_label(_case(ds, case))
             if group == "amplitude" and not probes_per_case:
-                label = f"A/d = {float(ds['amplitude'].sel(case=case)):.3g}"
+                amp = float(ds["amplitude"].sel(case=case))
+                label = f"A/d = {fraction_text(amp)}" if amp > 0 else "still water"
             ax.plot(tt, _series(ds, case, name), lw=1.0, label=label)
         ax.axvline(t1, color="k", ls="--", lw=0.8)
         if t2_periods is not None:
