@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 import math
 import signal
+import sys
 import threading
 import time as wallclock
 from dataclasses import dataclass, field
@@ -522,15 +523,23 @@ class _StopSignals:
         return False
 
 
-def _progress_bar(t_end: float):
+def _progress_bar(t_end: float, file=None):
+    """A tqdm bar over simulated time, with the particle-steps rate. On a terminal it is
+    redrawn twice a second; written to a file (a run in the background with its output
+    redirected to a log) it prints a line every 30 s, so a day-long run leaves a log of a
+    few thousand lines rather than megabytes of redraws."""
     from tqdm import tqdm
+
+    stream = sys.stderr if file is None else file
+    interval = 0.5 if getattr(stream, "isatty", lambda: False)() else 30.0
 
     class Bar(tqdm):
         def update_to(self, t, rate):
-            if self._time() - self.last_print_t < 0.5 and t < t_end:
+            if self._time() - self.last_print_t < interval and t < t_end:
                 return
             self.set_postfix_str(f"{rate / 1e6:.2f} M particle-steps/s", refresh=False)
             self.update(min(t, t_end) - self.n)
 
-    return Bar(total=t_end, unit="s", unit_scale=False, bar_format=(
-        "{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]"))
+    return Bar(total=t_end, unit="s", unit_scale=False, file=stream, mininterval=interval,
+               bar_format="{l_bar}{bar}| t = {n:.3f}/{total:.3f} s [{elapsed}<{remaining}"
+               "{postfix}]")

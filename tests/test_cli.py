@@ -271,3 +271,39 @@ def test_run_without_vtk_interval_writes_no_snapshots(case_file, tmp_path, capsy
                str(vtk)] + _sets(TINY_STILL_WATER + ["run.t_end=0.02"]))
     assert rc == 0, capsys.readouterr().err
     assert not vtk.exists() or not list(vtk.glob("*.vtu"))
+
+
+class _FakeClock:
+    def __init__(self):
+        self.now = 1000.0
+
+    def __call__(self):
+        return self.now
+
+
+@pytest.mark.parametrize("tty, fewest, most", [(False, 3, 6), (True, 200, 250)])
+def test_progress_bar_redraws_rarely_into_a_log(monkeypatch, tty, fewest, most):
+    """Two simulated minutes of a run: a log gets a line every 30 s, a terminal a redraw
+    every 0.5 s; the last state (t = t_end) is always printed."""
+    import io
+
+    import tqdm.std
+
+    from sph.solver import _progress_bar
+
+    clock = _FakeClock()
+    monkeypatch.setattr(tqdm.std, "time", clock)
+
+    class Stream(io.StringIO):
+        def isatty(self):
+            return tty
+
+    out = Stream()
+    bar = _progress_bar(10.0, file=out)
+    for k in range(1, 1201):  # 120 s of wall time, 0.1 s apart
+        clock.now += 0.1
+        bar.update_to(10.0 * k / 1200, 5.0e5)
+    bar.close()
+    draws = out.getvalue().count("particle-steps/s")
+    assert fewest <= draws <= most  # log: 120 s / 30 s plus the first and last; tty: 2 per s
+    assert "t = 10.000/10.000 s" in out.getvalue()
