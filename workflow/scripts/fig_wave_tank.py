@@ -1,15 +1,15 @@
 """Wave elevation at WP1 and WP2 against linear theory (analogue of Cao et al. 2019, Fig. 7).
 
-    python workflow/scripts/fig_wave_tank.py OUT.png RUN1.nc [RUN2.nc ...]
+    python workflow/scripts/fig_wave_tank.py OUT.png RUN1.nc [RUN2.nc ...] [--window T0 T1]
 
 Each run is a ``wave_tank`` output (e.g. at dx = 0.4 A, 0.2 A, 0.1 A). The theory curve has
 the linear-theory amplitude and period; its phase is matched to the finest run over the
-steady window (the flap's start-up transient is outside linear theory). Panel titles give the
-steady amplitude of every run.
+steady window (the flap's start-up transient is outside linear theory; 40-60 s unless
+``--window`` gives another). Panel titles give the steady amplitude of every run.
 """
 
 
-import sys
+import argparse
 
 import matplotlib
 
@@ -62,4 +62,9 @@ if __name__ == "__main__":
         sm = globals()["snakemake"]
         main(sm.output[0], list(sm.input), tuple(sm.params.window))
     else:
-        main(sys.argv[1], sys.argv[2:])
+        ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+        ap.add_argument("out")
+        ap.add_argument("runs", nargs="+")
+        ap.add_argument("--window", nargs=2, type=float, default=WINDOW, metavar=("T0", "T1"))
+        a = ap.parse_args()
+        main(a.out, a.runs, tuple(a.window))
