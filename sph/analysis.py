@@ -136,3 +136,21 @@ def reflection_coefficient(t, etas, xs, omega: float, k: float,
     a = np.column_stack([np.exp(-1j * k * xs), np.exp(1j * k * xs)])
     (ai, ar), *_ = np.linalg.lstsq(a, z, rcond=None)
     return dict(incident=abs(ai), reflected=abs(ar), coefficient=abs(ar) / abs(ai))
+
+
+def artificial_viscosity_nu(alpha: float, h: float, c0: float) -> float:
+    """Kinematic viscosity (m2/s) equivalent to the artificial viscosity of
+    :mod:`sph.fluid` in 2D: :math:`\\nu = \\alpha h c_0 / 8` (Monaghan 2005, Sec. 4.5; the
+    continuum limit of the pair sum uses only the kernel's normalisation, so it holds for
+    every kernel with the same ``h``)."""
+    return alpha * h * c0 / 8.0
+
+
+def viscous_wave_damping(nu: float, k: float) -> float:
+    """Amplitude decay rate (1/s) of a linear gravity wave of wavenumber ``k`` in a fluid
+    of kinematic viscosity ``nu`` with free-slip walls and bottom: :math:`2 \\nu k^2`
+    (Lamb 1932, Sec. 348). The potential flow's dissipation :math:`2\\mu\\int e_{ij}
+    e_{ij}\\,dV` over its energy gives :math:`4\\nu k^2` for the energy at any depth, for
+    progressive and standing waves alike. Divided by the group velocity it is the spatial
+    decay rate (1/m) of a progressive wave."""
+    return 2.0 * nu * k * k
