@@ -25,7 +25,8 @@ def test_one_sided_form_damps_only_backflow():
     ab = absorber_params(AbsorberConfig(start=90.0, length=60.0, speed=10.0,
                                         form="one_sided"), speed=1.0, dx=DX)
     assert sigma(120.0, 0.5, ab) == 0.0
-    assert sigma(120.0, -0.5, ab) > 0.0
+    assert sigma(120.0, -0.5, ab) == pytest.approx(10.0 / 60.0 * 30.0 / (30.0 + DX),
+                                                   rel=1e-12)
 
 
 def test_disabled_zone_is_inert():
@@ -70,3 +71,8 @@ def test_huge_damping_stays_stable():
     verlet_update(x, one.copy(), vx, vz, one * 1000, vx.copy(), vz.copy(), one * 1000, zero,
                   zero, zero, np.zeros(1, dtype=np.int32), 1e-3, True, ab)
     assert 0.0 < vx[0] < 1e-3
+    # exactly the implicit factor 1 / (1 + sigma dt), at the drifted position, on both
+    # components
+    s = sigma(0.999 + 1e-3 * 1.0, 1.0, ab)
+    assert vx[0] == pytest.approx(1.0 / (1.0 + 1e-3 * s), rel=1e-12)
+    assert vz[0] == pytest.approx(vx[0], rel=1e-12)

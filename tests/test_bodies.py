@@ -25,17 +25,28 @@ def test_free_fall_is_exact_and_masks_fix_motions():
 
 
 def test_roll_sign_is_positive_towards_plus_x():
-    body = RigidBody(1.0, 1.0, (0.0, 0.0), DofConfig(), 0.0)
-    body.set_forces(0.0, 0.0, -1.0)  # clockwise moment: the top moves towards +x
-    body.update(0.1, euler=True)
-    assert body.motions()["roll"] > 0
+    """One step from rest under constant loads: sway = fx / M dt^2 / 2, roll angle =
+    -moment / I dt^2 / 2 (degrees, positive towards +x), velocities a dt; mass and inertia
+    differ so that a swap of the two is seen."""
+    mass, inertia, fx, moment, dt = 2.0, 5.0, 4.0, -3.0, 0.1
+    body = RigidBody(mass, inertia, (0.0, 0.0), DofConfig(), 0.0)
+    body.set_forces(fx, 0.0, moment)  # clockwise moment: the top moves towards +x
+    body.update(dt, euler=True)
+    m = body.motions()
+    assert m["roll"] > 0
+    assert m["roll"] == pytest.approx(np.degrees(0.5 * dt * dt * 3.0 / inertia), rel=1e-12)
+    assert m["sway"] == pytest.approx(0.5 * dt * dt * fx / mass, rel=1e-12)
+    assert m["heave"] == 0.0
+    assert body.v[0] == pytest.approx(dt * fx / mass, rel=1e-12)
+    assert body.v[2] == pytest.approx(dt * moment / inertia, rel=1e-12)
 
 
 def test_floating_box_stays_at_its_hydrostatic_draught():
     """A 0.4 m x 0.2 m box of density 500 kg/m3 (draught 0.1 m), all three DOF free, released
     at its hydrostatic position in still water; dx = 0.02 m (5 particles over the draught).
-    The fluid force balances the weight (to 2 % on average), the box stays within 2 % of the
-    draught on average and 5 % at any time, and sway and roll stay at zero by symmetry."""
+    The fluid force balances the weight (to 0.5 % at t = 0, 0.2 % on average), the box stays
+    within 2 % of the draught on average and 5 % at any time, and sway and roll stay at zero
+    by symmetry."""
     sim = run_builtin("floating_box", [
         "numerics.dx=0.02", "run.t_end=3.0", "run.output_interval=0.02",
         "geometry.depth=0.5", "geometry.tank_length=3.0", "geometry.tank_height=0.8",
@@ -48,7 +59,9 @@ def test_floating_box_stays_at_its_hydrostatic_draught():
     heave = ds["heave"].values
     assert abs(heave.mean()) < 0.02 * draught
     assert np.abs(heave).max() < 0.05 * draught
-    assert ds["body_force_z"].values[0, 0] == pytest.approx(weight, rel=0.01)
-    assert ds["body_force_z"].values[0].mean() == pytest.approx(weight, rel=0.02)
+    # measured: +0.25 % at t = 0 (the pressure of the initial hydrostatic field integrated
+    # over a hull surface resolved by 5 particles), -0.001 % on average over the 3 s
+    assert ds["body_force_z"].values[0, 0] == pytest.approx(weight, rel=5e-3)
+    assert ds["body_force_z"].values[0].mean() == pytest.approx(weight, rel=2e-3)
     assert np.abs(ds["sway"].values).max() < 1e-3 * draught
     assert np.abs(ds["roll"].values).max() < 0.05

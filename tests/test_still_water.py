@@ -31,8 +31,13 @@ def test_still_water_hydrostatic_and_at_rest(density_filter):
     fluid = sim.parts.kind == 0
     weight_per_length = G * float(np.sum(sim.parts.m[fluid])) / L
 
-    assert abs(p.mean() / (rho0 * G * H) - 1.0) < 0.01
-    assert abs(p.mean() / weight_per_length - 1.0) < 0.005
+    print(f"{density_filter}: p / rho0 g H - 1 = {p.mean() / (rho0 * G * H) - 1.0:+.5f}, "
+          f"p / weight - 1 = {p.mean() / weight_per_length - 1.0:+.5f}")
+    # the column is slightly compressed, so heavier than rho0 g H (+0.5 % measured) ...
+    assert 0.0 < p.mean() / (rho0 * G * H) - 1.0 < 0.01
+    # ... and the bottom carries exactly its weight: measured 0.01-0.03 % with MLS, delta
+    # and no filter, 0.27 % with ddt (its hydrostatic correction linearises the Tait law)
+    assert abs(p.mean() / weight_per_length - 1.0) < 0.004
     vmax = ds.max_velocity.where(settled, drop=True).values
     assert vmax.max() < 0.01 * math.sqrt(G * H)
     # the free surface stays where it was (within a fifth of a particle spacing)
