@@ -93,9 +93,11 @@ def _orifice_estimate(hull, z1):
 
 def test_early_inflow_through_the_opening_is_of_the_orifice_order():
     """The first 1.5 s of flooding: the inflow rate is that of an orifice of the opening's
-    height, q = C_d sqrt(2g) 2/3 (y1^1.5 - y0^1.5) with C_d = 0.6 (sharp-edged), to within
-    a factor 0.6-1.5 (the discharge coefficient of a slot in a thin plate lies between 0.6 and
-    1, and the ship sinks as it floods, which raises the head)."""
+    height, q = C_d sqrt(2g) 2/3 (y1^1.5 - y0^1.5) with C_d = 0.6 (a sharp-edged slot in a
+    thin plate: the jet contracts to pi / (pi + 2) = 0.61 of the opening), measured 0.88 of
+    it. Bounds 0.7-1.2: the water rising in the cabin lowers the head across the opening
+    (the estimate takes the cabin as empty), the ship sinking as it floods raises it, and
+    the opening's edges are resolved to half a particle spacing (+-10 % of its area here)."""
     sim = _flood_run(2.6)
     ds = sim.dataset()
     t1 = ds.attrs["damage_time"]
@@ -106,7 +108,7 @@ def test_early_inflow_through_the_opening_is_of_the_orifice_order():
     rate = np.polyfit(t[sel], q[sel], 1)[0]
     z1 = HULL.plating + 0.9 * HULL.draught
     est = _orifice_estimate(HULL, z1)
-    assert 0.6 * est < rate < 1.5 * est, (rate, est)
+    assert 0.7 * est < rate < 1.2 * est, (rate, est)
     # the flooding water sits in the damaged cabin: every cabin particle inside the hull
     p = sim.parts
     u, w = _keel_coords(sim, 4)
