@@ -3,7 +3,8 @@
 ``interact`` finds each fluid particle's neighbours through the cell list. The reference
 here visits, for every fluid particle, every other particle of the set (no cells), and sums
 Eqs. 2, 3 and 5 of Cao et al. (2019) with the wall rules, the delta-SPH terms and the
-shifting kernel sum pair by pair. The state is a patch of a damaged ship around its open side
+particle shift (Sun et al. 2017: gate, anti-clumping term, surface projection, cap) pair by
+pair. The state is a patch of a damaged ship around its open side
 opening (sea, cabin, hull walls with their extrapolated pressures), with random velocities,
 pressures (some negative: fluid in tension against a wall) and density gradients, so that
 every branch of the pair rules is taken: fluid pairs of one compartment, sea-cabin pairs
@@ -21,7 +22,7 @@ from sph.damage import passable, wall_hidden
 from sph.fluid import interact
 from sph.kernels import f_r2, w_given_f, w_r2
 from sph.neighbours import CellGrid
-from sph.shifting import shift_params, shift_vector
+from sph.shifting import PACKED, PACKED_RAMP, R_ANTI, SURFACE_DIVR, shift_params
 from sph.solver import Simulation
 
 RTOL = 1e-10
@@ -30,7 +31,9 @@ RTOL = 1e-10
 @pytest.fixture(scope="module")
 def patch():
     """Particles of the damaged ship within 5 m of the open opening's centre, with the sea
-    next to the opening mirrored into the cabin (as if it had begun to flood), re-sorted."""
+    next to the opening mirrored into the cabin (as if it had begun to flood) and the fluid
+    within 2 m of the highest particle drawn towards it (packed at the surface),
+    re-sorted."""
     cfg = build_case(apply_overrides(load_defaults("damaged_ship"), [
         ("numerics.dx", 0.8), ("numerics.threads", 2),
         ("geometry.damage.time_periods", 0.001)]))
@@ -57,6 +60,12 @@ def patch():
     st["vx"] += rng.normal(0, 0.5, n)
     st["vz"] += rng.normal(0, 0.5, n)
     st["rho"] *= 1.0 + rng.normal(0, 0.003, n)
+    # a packed cluster at the free surface (the shift's surface projection and cap)
+    fluid = np.nonzero(st["kind"] == 0)[0]
+    top = fluid[np.argmax(st["z"][fluid])]
+    near = fluid[np.hypot(st["x"][fluid] - st["x"][top], st["z"][fluid] - st["z"][top]) < 2.0]
+    for key in ("x", "z"):
+        st[key][near] = st[key][top] + 0.4 * (st[key][near] - st[key][top])
     st["p"] = rng.normal(1.0e4, 1.5e4, n)
     st["grx"] = rng.normal(0, 20.0, n)
     st["grz"] = rng.normal(0, 20.0, n)
@@ -77,12 +86,14 @@ def _reference(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
     n = len(x)
     eps2 = 1.0e-4 * kp[1] ** 2
     out = {k: np.zeros(n) for k in ("ax", "az", "drho", "sx", "sz")}
-    seen = {"through the opening": 0, "blocked": 0, "wall hidden": 0, "fluid-wall": 0}
+    seen = {"through the opening": 0, "blocked": 0, "wall hidden": 0, "fluid-wall": 0,
+            "shifted": 0, "capped": 0, "at the surface": 0}
     for i in np.nonzero(kind == 0)[0]:
         ddx, ddz = x[i] - x, z[i] - z
         r2 = ddx * ddx + ddz * ddz
         accx = accz = div = diff = 0.0
         shep = m[i] / rho[i] * w_r2(0.0, kp)
+        cgx = cgz = divr = 0.0  # concentration gradient and divergence of the position
         for j in np.nonzero(r2 < kp[3])[0]:
             if j == i:
                 continue
@@ -117,14 +128,28 @@ def _reference(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
                 coef = -m[j] * (max(p[i], 0.0) + p[j]) / (rho[i] * rho[j])
             accx += coef * fw * dx
             accz += coef * fw * dz
-            shep += vj * w_given_f(r2[j], fw, kp)
+            wij = w_given_f(r2[j], fw, kp)
+            shep += vj * wij
+            anti = 1.0 + R_ANTI * (wij / shift[1]) ** 4
+            cgx += vj * fw * anti * dx
+            cgz += vj * fw * anti * dz
+            divr -= vj * fw * r2[j]
         out["ax"][i] = accx + gx
         out["az"][i] = accz + gz
         out["drho"][i] = rho[i] * div + delta * diff
-        if shift[0]:
-            out["sx"][i], out["sz"][i] = shift_vector(
-                i, shep, x, z, rho, m, kind, body, comp, grid.cell_of, grid.cell_start,
-                grid.ncx, kp, op, kin, shift)
+        gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
+        if shift[0] and gate > 0.0:  # Sun et al. (2017), surface projection, cap
+            sh = -shift[0] * gate * np.array([cgx, cgz])
+            g = np.array([cgx, cgz])
+            if divr < SURFACE_DIVR and g @ g > 0.0:
+                sh -= (sh @ g) / (g @ g) * g
+            size = np.hypot(*sh)
+            if size > shift[2]:
+                sh *= shift[2] / size
+            out["sx"][i], out["sz"][i] = sh
+            seen["shifted"] += 1
+            seen["capped"] += size > shift[2]
+            seen["at the surface"] += divr < SURFACE_DIVR
     return out, seen
 
 
@@ -144,14 +169,15 @@ def test_pair_loop_matches_the_gather_over_all_particles(patch, diffusion):
     visc = 2 * 0.02 * kp[1] * 170.0
     delta = 0.0 if diffusion == "none" else 0.1 * kp[1] * 170.0
     ddt_rho = 1000.0 / 170.0**2 if diffusion == "ddt" else 0.0
-    shift = shift_params(1.0, 0.2, 10.0, kp, dx)
+    shift = shift_params(4.0, 0.2, 10.0, kp, dx)  # C = 4: some shifts reach the cap
     args = (patch["st"], patch["grid"], kp, patch["op"], patch["kin"], visc, 0.0, -9.81, delta,
             ddt_rho, shift)
     got, (want, seen) = _interact(*args), _reference(*args)
-    assert min(seen.values()) > 0, seen  # every pair rule is exercised
+    print(seen)
+    assert min(seen.values()) > 0, seen  # every pair rule and shifting branch is exercised
     for name in ("ax", "az", "drho", "sx", "sz"):
         scale = np.abs(want[name]).max()
-        assert scale > 0 or name in ("sx", "sz"), name
+        assert scale > 0, name
         np.testing.assert_allclose(got[name], want[name], rtol=0, atol=RTOL * max(scale, 1e-30),
                                    err_msg=name)
 

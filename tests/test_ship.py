@@ -120,13 +120,15 @@ def test_early_inflow_through_the_opening_is_of_the_orifice_order():
 
 @pytest.mark.slow
 def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
-    """Flooding to equilibrium: the mean heave over the last 20 s agrees within 5 % with the
+    """Flooding to equilibrium: the mean heave over the last 20 s agrees within 3 % with the
     lost-buoyancy equilibrium of the strip model (:func:`sph.hull.flooded_equilibrium`: each
     segment in its own 70-m tank, whose level changes as the cabin takes in water), the ship
     stays upright (a flooded symmetric cabin gives no heeling moment) and the flood volume
     is the cabin's area below the damaged tank's new level. Once the cabin has filled, ship
     and flood water exchange water through the opening in a slow oscillation (period about
-    20 s, heave +-0.1 m), so the mean is taken over one such period. No particle is lost on
+    20 s, heave +-0.1 m), so the mean is taken over one such period: a window a third of a
+    period off that oscillation's period moves the mean by 0.1 m / pi / 3 = 0.01 m (0.7 %);
+    measured 0.3 % (heave) and 0.1 % (flood volume), tolerance 3 %. No particle is lost on
     the way (with the MLS density filter, particles packed at the opening's edges sank as a
     cluster through the tank floor 40 s after the damage: README, "The ship")."""
     sim = _flood_run(65.0)
@@ -136,8 +138,8 @@ def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
     late = t > t[-1] - 20.0
     eq = flooded_equilibrium(HULL, 1.0 / 3.0, tank_length=70.0)
     heave = float(np.mean(ds["heave"].values[late]))
-    assert abs(heave - eq["heave"]) < 0.05 * abs(eq["heave"]), (heave, eq)
+    assert abs(heave - eq["heave"]) < 0.03 * abs(eq["heave"]), (heave, eq)
     assert abs(float(np.mean(ds["roll"].values[late]))) < 1.0
     q = float(np.mean(ds["flood_volume"].values[late]))
-    assert abs(q - eq["flood"]) < 0.05 * eq["flood"], (q, eq)
+    assert abs(q - eq["flood"]) < 0.03 * eq["flood"], (q, eq)
     assert q < cabin_area(HULL)
