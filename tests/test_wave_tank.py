@@ -85,12 +85,15 @@ def test_non_monotonic_flap_file_is_refused(tmp_path):
 
 
 def test_flap_drives_the_water_next_to_it():
-    """Coarse (dx = 1 m) and short: the flap angle is recorded as theta0 sin(omega t) in
-    degrees, and the water next to the flap rises while the flap leans forward (t ~ pi/2)
-    and falls while it leans back (t ~ 3 pi/2)."""
-    sim = run_builtin("wave_tank", ["numerics.dx=1.0", "run.t_end=5.0",
+    """Coarse (dx = 1 m = 1 A) and short (30 s): the flap angle is recorded as theta0
+    sin(omega t) in degrees; the water next to the flap rises while the flap leans forward
+    (t ~ pi/2) and falls while it leans back (t ~ 3 pi/2); and once the front has passed
+    WP1 (x = 30 m, 15-30 s) the wave there has the linear-theory amplitude within 10 % and
+    period within 1 % (measured -4.9 % and -0.2 %; the artificial viscosity alone takes
+    6 % over those 30 m at this resolution, README "Validation")."""
+    sim = run_builtin("wave_tank", ["numerics.dx=1.0", "run.t_end=30.0",
                                     "run.output_interval=0.05",
-                                    "probes.surface=[{name: near, x: 3.0}]"])
+                                    "probes.surface=[{name: near, x: 3.0}, {name: WP1, x: 30.0}]"])
     ds = sim.dataset()
     t = ds.time.values
     np.testing.assert_allclose(ds.flap_angle.values, np.degrees(0.025 * np.sin(t)), atol=1e-12)
@@ -98,6 +101,10 @@ def test_flap_drives_the_water_next_to_it():
     assert eta[np.argmin(abs(t - 1.8))] > 0.2
     assert eta[np.argmin(abs(t - 4.9))] < -0.2
     assert abs(ds.volume_error.values).max() < 0.01
+    s = wave_statistics(t, ds.probe_elevation.sel(probe="WP1").values, OMEGA, (15.0, 30.0))
+    theory = ds.attrs["theory_amplitude"]
+    assert abs(s["amplitude"] / theory - 1.0) < 0.10, (s, theory)
+    assert abs(s["period"] / (2 * math.pi / OMEGA) - 1.0) < 0.01, s
 
 
 def _paper_tank(absorber: bool, dx: float = 0.4):
