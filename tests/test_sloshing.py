@@ -4,7 +4,9 @@ Rectangular tank 1 m x 1 m, fills 25/50/75 %, dx = 0.025 m (10-30 particles over
 40 along the tank), started with the linear first-mode velocity field (amplitude 1 cm, a/h
 <= 4 %, so nonlinear frequency shifts are below 0.1 %). Tolerance 3 %: the measured
 frequency includes the weak-compressibility shift (about (omega h / c0)^2 < 0.5 %) and the
-free-surface position error of half a particle spacing (about 1 % at fill 25 %).
+free-surface position error of half a particle spacing (about 1 % at fill 25 %). The
+damping of the mode is that of the artificial viscosity, nu = alpha h c0 / 8, on a gravity
+wave: 2 nu k^2.
 """
 
 import math
@@ -46,10 +48,9 @@ def test_artificial_viscosity_damps_the_mode_at_the_viscous_rate():
     truncated within a kernel support (3 h = 0.09 m) of the free surface and the walls,
     where the mode's shear is largest, so the measured damping is below theory (-8 % here,
     -4 % at dx = L/80, measured); the fit runs over 6 s (5 periods, a third of the
-    amplitude lost).
-    Without the artificial viscosity the mode must keep most of its energy: the damping
-    left (time integration and density re-initialisation) stays under a quarter of what
-    alpha = 0.04 adds."""
+    amplitude lost). Without the artificial viscosity the mode must keep most of its
+    energy: the damping left (time integration and density re-initialisation) stays under
+    a quarter of what alpha = 0.04 adds."""
     zetas = {}
     for alpha in (0.0, 0.04):
         sim = run_builtin("sloshing_rect", [
