@@ -65,3 +65,25 @@ def test_floating_box_stays_at_its_hydrostatic_draught():
     assert ds["body_force_z"].values[0].mean() == pytest.approx(weight, rel=2e-3)
     assert np.abs(ds["sway"].values).max() < 1e-3 * draught
     assert np.abs(ds["roll"].values).max() < 0.05
+
+
+def test_strip_segments_sum_their_forces_by_length():
+    """Strip theory (Cao et al. 2019, Eq. 9): the body's force per unit length is the sum of
+    the segments' forces weighted by the fraction of the length each stands for; every
+    segment's walls move with the body, shifted to its own tank."""
+    mass, inertia = 3.0e5, 8.0e6
+    body = RigidBody(mass, inertia, (10.0, 2.0), DofConfig(), 9.81,
+                     segments=[(3, 2.0 / 3.0, 0.0), (4, 1.0 / 3.0, 70.0)])
+    fx = np.array([0.0, 0.0, 0.0, 3.0e5, 6.0e5])  # indexed by wall group
+    fz = np.array([0.0, 0.0, 0.0, 2.0e6, 5.0e6])
+    mom = np.array([0.0, 0.0, 0.0, -1.0e6, 2.0e6])
+    body.collect_forces(fx, fz, mom)
+    np.testing.assert_allclose(body.force, [4.0e5, 3.0e6, 0.0], rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(body.segment_force, [[3.0e5, 2.0e6, -1.0e6],
+                                                    [6.0e5, 5.0e6, 2.0e6]], rtol=1e-12)
+    np.testing.assert_allclose(body.a, [4.0e5 / mass, 3.0e6 / mass - 9.81, 0.0], atol=1e-12)
+    k0, k1 = body.segment_motion(0).kinematics(), body.segment_motion(1).kinematics()
+    assert k1[0] == k0[0] + 70.0 and np.array_equal(k1[1:], k0[1:])
+    with pytest.raises(ValueError, match="sum to 1"):
+        RigidBody(mass, inertia, (0.0, 0.0), DofConfig(), 9.81,
+                  segments=[(3, 0.5, 0.0), (4, 0.4, 70.0)])
