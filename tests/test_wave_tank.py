@@ -11,8 +11,10 @@ window, 40-60 s: the amplitude at WP2 still falls slowly after the start-up tran
 passed (at dx = 0.4 A: -3.8 % over 18-30 s, -6.1 % over 24-38 s, -8.5 % over 40-60 s), so a
 shorter run would flatter the finer one. A dx = 0.4 A run is 3.2 G particle-steps (30 457
 particles, 105 280 steps), a dx = 0.2 A run about 25 G (117 000 particles, 210 000 steps): at
-the 1.0 to 2.6 M particle-steps/s of two threads on the 2-core machines measured so far,
-20 to 50 minutes and 2.6 to 7 hours; results are in the README.
+the 1.0 to 3.2 M particle-steps/s of two threads on the 2-core machines measured so far,
+20 to 50 minutes and 2.2 to 7 hours; results are in the README. A dx = 0.2 A run stopped at
+t = 41 s gave WP2 -2.1, -4.5 and -6.6 % over 18-30, 24-38 and 30-41 s (WP1 about -3 %): the
+0.2A case is expected to fail at WP2 over 40-60 s until that drift is understood.
 """
 
 import math
