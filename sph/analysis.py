@@ -154,3 +154,51 @@ def viscous_wave_damping(nu: float, k: float) -> float:
     progressive and standing waves alike. Divided by the group velocity it is the spatial
     decay rate (1/m) of a progressive wave."""
     return 2.0 * nu * k * k
+
+
+def flap_wave_record(t, angle, x: float, depth: float, g: float = 9.81,
+                     nu: float = 0.0) -> np.ndarray:
+    r"""Linear free-surface elevation (m) at ``x`` (m from the hinge) made by a bottom-hinged
+    flap that moves through ``angle`` (rad, sampled at the uniform times ``t`` starting from
+    rest at ``t[0]``): the wavemaker signalling problem, start-up transient included.
+
+    The stroke at the still-water level :math:`X(t) = h\tan\theta(t)` is split into
+    frequencies; each travels as a progressive wave with the flap transfer function of
+    :func:`sph.wavemaker.flap_height_to_stroke` (Dean & Dalrymple: :math:`\eta` leads the
+    stroke by a quarter period) and the phase :math:`e^{-ik(\omega)x}` of the dispersion
+    relation, so the front of a suddenly started wave train arrives near :math:`x/c_g` with
+    the Fresnel-type envelope of linear theory. Evanescent modes are left out (at
+    :math:`x = h` they are below 5 % of their size at the flap). With ``nu`` > 0 each
+    frequency also loses amplitude at the spatial rate :math:`2\nu k^2 / c_g`
+    (:func:`viscous_wave_damping`), the decay that a viscosity, or the artificial viscosity
+    of :func:`artificial_viscosity_nu`, gives a progressive wave.
+
+    The record is zero-padded to 16 times its length (at least 4096 s), so that nothing
+    wraps round into ``t``: linear waves in depth h travel no faster than
+    :math:`\sqrt{g h}`, and what the flap does after ``t[-1]`` cannot reach ``x`` before.
+    """
+    from .wavemaker import flap_height_to_stroke, wavenumber
+
+    t = np.asarray(t, dtype=float)
+    angle = np.asarray(angle, dtype=float)
+    if t.ndim != 1 or t.shape != angle.shape or t.size < 4:
+        raise ValueError("t and angle must be 1-D arrays of the same length (4 or more)")
+    step = np.diff(t)
+    dt = float(step.mean())
+    if dt <= 0.0 or np.abs(step - dt).max() > 1.0e-3 * dt:
+        raise ValueError("t must be uniformly sampled and increasing")
+    n = 1 << int(math.ceil(math.log2(max(16 * t.size, 4096.0 / dt))))
+    stroke = np.zeros(n)
+    stroke[: t.size] = depth * np.tan(angle)
+    spec = np.fft.rfft(stroke)
+    omega = 2.0 * np.pi * np.fft.rfftfreq(n, dt)
+    gain = np.zeros(omega.size, dtype=complex)
+    for i in range(1, omega.size):
+        k = wavenumber(omega[i], depth, g)
+        kh = k * depth
+        cg = 0.5 * omega[i] / k * (1.0 + (2.0 * kh / math.sinh(2.0 * kh) if kh < 350 else 0.0))
+        decay = viscous_wave_damping(nu, k) / cg * x if nu > 0.0 else 0.0
+        if decay > 700.0:
+            continue
+        gain[i] = 1j * flap_height_to_stroke(kh) * np.exp(-1j * k * x - decay)
+    return np.fft.irfft(spec * gain, n)[: t.size]

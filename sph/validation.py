@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from .analysis import (
+    artificial_viscosity_nu,
+    flap_wave_record,
     koshizuka_front,
     oscillation_frequency,
     reflection_coefficient,
@@ -90,13 +92,43 @@ def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]
 
 
 def _probe_x(ds, name: str) -> float | None:
-    import yaml
-
-    cfg = yaml.safe_load(ds.attrs.get("config", "")) or {}
+    cfg = _run_config(ds)
     for p in (cfg.get("probes") or {}).get("surface") or []:
         if p.get("name") == name:
             return float(p["x"])
     return None
+
+
+def _run_config(ds) -> dict:
+    import yaml
+
+    return yaml.safe_load(ds.attrs.get("config", "")) or {}
+
+
+def run_viscosity(ds) -> float:
+    """Kinematic viscosity (m2/s) that the artificial viscosity of a run amounts to,
+    :func:`sph.analysis.artificial_viscosity_nu` with the run's alpha, h and c0."""
+    from .config import Numerics
+
+    alpha = (_run_config(ds).get("numerics") or {}).get("alpha", Numerics.alpha)
+    return artificial_viscosity_nu(float(alpha), float(ds.attrs["smoothing_length"]),
+                                   float(ds.attrs["speed_of_sound"]))
+
+
+def linear_wave_record(ds, probe: str, nu: float = 0.0, dt: float = 0.05):
+    """Linear theory at a probe of a ``wave_tank`` run, start-up transient included:
+    :func:`sph.analysis.flap_wave_record` driven by the flap angle the run recorded
+    (``flap_angle``, degrees), on a uniform grid of step ``dt`` from 0 to the run's end.
+    ``nu`` > 0 adds the viscous decay of each frequency (:func:`run_viscosity` gives the
+    run's own). Returns ``(t, eta)``."""
+    x = _probe_x(ds, probe)
+    if x is None:
+        raise ValueError(f"probe {probe!r} has no x in the run's configuration")
+    g = float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
+    t_run = ds["time"].values
+    t = np.arange(0.0, float(t_run[-1]) + 0.5 * dt, dt)
+    angle = np.radians(np.interp(t, t_run, ds["flap_angle"].values))
+    return t, flap_wave_record(t, angle, x, float(ds.attrs["depth"]), g=g, nu=nu)
 
 
 def sloshing(runs: Mapping[str, object]) -> list[dict]:

@@ -23,9 +23,16 @@ import numpy as np
 import pytest
 from physics_helpers import run_builtin
 
-from sph.analysis import reflection_coefficient, wave_statistics
+from sph.analysis import (
+    flap_wave_record,
+    harmonic_fit,
+    reflection_coefficient,
+    viscous_wave_damping,
+    wave_statistics,
+)
 from sph.cases.base import load_defaults
 from sph.config import ConfigError, apply_overrides, build_case
+from sph.wavemaker import flap_wave_amplitude
 
 OMEGA, K = 1.0, 0.10237595312395345
 
@@ -49,6 +56,57 @@ def test_reflection_separation_on_synthetic_waves(kr):
     r = reflection_coefficient(t, etas, xs, OMEGA, K, (10.0, 80.0))
     assert r["incident"] == pytest.approx(a_i, rel=1e-6)
     assert r["coefficient"] == pytest.approx(kr, abs=1e-6)
+
+
+def _envelope(t, eta, centre, omega=OMEGA):
+    """First-harmonic amplitude over the period centred on ``centre``."""
+    sel = np.abs(t - centre) < math.pi / omega
+    return abs(harmonic_fit(t[sel], eta[sel], omega)[0])
+
+
+def test_signalling_solution_settles_to_flap_theory_with_the_phase_of_a_progressive_wave():
+    # a long sine started abruptly: once the front has passed, the record is the steady
+    # linear wave eta = A cos(omega t - k x) of the flap transfer function
+    t = np.arange(0.0, 120.0, 0.05)
+    a = flap_wave_amplitude(0.025, OMEGA, 30.0)
+    eta = flap_wave_record(t, 0.025 * np.sin(OMEGA * t), 60.0, 30.0)
+    late = t > 70.0
+    z, mean = harmonic_fit(t[late], eta[late], OMEGA)
+    assert abs(z) == pytest.approx(a, rel=2e-3)
+    assert abs(np.angle(z * np.exp(1j * K * 60.0))) < math.radians(1.0)
+    assert abs(mean) < 2e-3 * a
+
+
+def test_signalling_solution_decays_at_the_viscous_rate():
+    t = np.arange(0.0, 120.0, 0.05)
+    k, depth, nu, x = K, 30.0, 0.2, 60.0
+    cg = 0.5 * OMEGA / k * (1 + 2 * k * depth / math.sinh(2 * k * depth))
+    eta = flap_wave_record(t, 0.025 * np.sin(OMEGA * t), x, depth, nu=nu)
+    late = t > 70.0
+    expected = flap_wave_amplitude(0.025, OMEGA, depth) * math.exp(
+        -viscous_wave_damping(nu, k) / cg * x)
+    assert abs(harmonic_fit(t[late], eta[late], OMEGA)[0]) == pytest.approx(expected, rel=2e-3)
+
+
+def test_signalling_front_is_the_fresnel_front_at_the_group_velocity():
+    # far from the flap a suddenly started wave train arrives with the envelope of a step
+    # spread by dispersion (Fresnel integral): half the steady amplitude at t = x / c_g,
+    # then the first overshoot, 1.17 times the steady amplitude (the Cornu spiral)
+    t = np.arange(0.0, 120.0, 0.05)
+    depth, x = 30.0, 300.0
+    cg = 0.5 * OMEGA / K * (1 + 2 * K * depth / math.sinh(2 * K * depth))
+    a = flap_wave_amplitude(0.025, OMEGA, depth)
+    eta = flap_wave_record(t, 0.025 * np.sin(OMEGA * t), x, depth)
+    assert _envelope(t, eta, x / cg) / a == pytest.approx(0.5, abs=0.05)
+    peak = max(_envelope(t, eta, c) for c in np.arange(x / cg, x / cg + 30.0, 0.5)) / a
+    assert peak == pytest.approx(1.17, abs=0.05)
+    assert _envelope(t, eta, x / cg - 15.0) / a < 0.2
+
+
+def test_signalling_solution_refuses_uneven_sampling():
+    t = np.array([0.0, 0.1, 0.3, 0.4, 0.5])
+    with pytest.raises(ValueError, match="uniformly"):
+        flap_wave_record(t, np.zeros_like(t), 30.0, 30.0)
 
 
 def _wave_tank(overrides):

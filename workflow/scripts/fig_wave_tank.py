@@ -2,10 +2,12 @@
 
     python workflow/scripts/fig_wave_tank.py OUT.png RUN1.nc [RUN2.nc ...] [--window T0 T1]
 
-Each run is a ``wave_tank`` output (e.g. at dx = 0.4 A, 0.2 A, 0.1 A). The theory curve has
-the linear-theory amplitude and period; its phase is matched to the finest run over the
-steady window (the flap's start-up transient is outside linear theory; 40-60 s unless
-``--window`` gives another). Panel titles give the steady amplitude of every run.
+Each run is a ``wave_tank`` output (e.g. at dx = 0.4 A, 0.2 A, 0.1 A). The theory curves are
+the linear signalling solution driven by the flap angle the finest run recorded
+(:func:`sph.validation.linear_wave_record`: start-up front, amplitude and phase, nothing
+fitted), without and with the viscous decay that the finest run's artificial viscosity
+amounts to. Panel titles give the steady amplitude of every run over the grey window
+(40-60 s unless ``--window`` gives another).
 """
 
 
@@ -18,8 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import harmonic_fit  # noqa: E402
-from sph.validation import steady_wave  # noqa: E402
+from sph.validation import linear_wave_record, run_viscosity, steady_wave  # noqa: E402
 
 WINDOW = (40.0, 60.0)
 
@@ -41,11 +42,12 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
             ax.plot(t, eta, lw=1, label=f"SPH dx = {dx:g} m = {dx / a:.2f} A")
             notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m")
         finest = sets[-1]
-        t = finest.time.values
-        z, _ = harmonic_fit(t[t >= window[0]], finest.probe_elevation.sel(probe=probe).values[
-            t >= window[0]], omega)
-        ax.plot(t, a * np.cos(omega * t + np.angle(z)), "k--", lw=1,
-                label=f"linear theory, A = {a:.3f} m")
+        t, eta = linear_wave_record(finest, probe)
+        ax.plot(t, eta, "k--", lw=1, label=f"linear theory, A = {a:.3f} m")
+        nu = run_viscosity(finest)
+        t, eta = linear_wave_record(finest, probe, nu=nu)
+        ax.plot(t, eta, ":", color="0.35", lw=1.2,
+                label=f"linear theory with the viscous decay of nu = {nu:.2f} m2/s")
         ax.axvspan(*window, color="0.92", zorder=-1)
         ax.set(ylabel=f"$\\eta$ at {probe} (m)",
                title=f"{probe}: steady amplitude " + ", ".join(notes))
