@@ -117,25 +117,35 @@ def wave_statistics(t, eta, omega: float, window: tuple[float, float]) -> dict:
 
 
 def reflection_coefficient(t, etas, xs, omega: float, k: float,
-                           window: tuple[float, float]) -> dict:
+                           window: tuple[float, float], decay: float = 0.0) -> dict:
     """Separate incident and reflected regular waves from several probes (Mansard & Funke
     1980, least squares over the probes).
 
     Each probe record is reduced to its complex amplitude :math:`Z_p` at ``omega``; then
-    :math:`Z_p = a_I e^{-i k x_p} + a_R e^{i k x_p}` is solved for :math:`a_I, a_R` in the
-    least-squares sense. Needs two probes not separated by a multiple of half a wavelength
-    (three or more make it robust).
+    :math:`Z_p = a_I e^{-i k x_p - \beta x_p} + a_R e^{i k x_p + \beta x_p}` is solved for
+    :math:`a_I, a_R` in the least-squares sense, where :math:`\beta` = ``decay`` (1/m) is
+    the spatial decay rate of a progressive wave (e.g. :func:`viscous_wave_damping` over the
+    group velocity for the artificial viscosity of a run): without it, the steady fall of
+    the amplitude along the tank is read as part reflection. Needs two probes not separated
+    by a multiple of half a wavelength (more, spread over a wavelength, make it robust).
 
-    Returns ``incident``, ``reflected`` (amplitudes, m) and ``coefficient`` = reflected /
-    incident.
+    Returns ``incident`` (amplitude extrapolated to x = 0, m), ``reflected`` (m, at x = 0),
+    ``coefficient`` = reflected / incident at the probe farthest along x (where the two
+    waves are closest to the reflector; with ``decay`` = 0 the same everywhere) and
+    ``residual``: the RMS misfit of the probes' complex amplitudes over ``incident``;
+    ``a_incident``, ``a_reflected``: the complex amplitudes at x = 0.
     """
     t = np.asarray(t, dtype=float)
     sel = (t >= window[0]) & (t <= window[1])
     xs = np.asarray(xs, dtype=float)
     z = np.array([harmonic_fit(t[sel], np.asarray(e)[sel], omega)[0] for e in etas])
-    a = np.column_stack([np.exp(-1j * k * xs), np.exp(1j * k * xs)])
+    a = np.column_stack([np.exp(-1j * k * xs - decay * xs), np.exp(1j * k * xs + decay * xs)])
     (ai, ar), *_ = np.linalg.lstsq(a, z, rcond=None)
-    return dict(incident=abs(ai), reflected=abs(ar), coefficient=abs(ar) / abs(ai))
+    x_ref = float(xs.max())
+    coefficient = abs(ar) / abs(ai) * math.exp(2.0 * decay * x_ref)
+    residual = float(np.sqrt(np.mean(np.abs(a @ np.array([ai, ar]) - z) ** 2)) / abs(ai))
+    return dict(incident=abs(ai), reflected=abs(ar), coefficient=coefficient,
+                residual=residual, a_incident=complex(ai), a_reflected=complex(ar))
 
 
 def artificial_viscosity_nu(alpha: float, h: float, c0: float) -> float:
@@ -177,7 +187,7 @@ def flap_wave_record(t, angle, x: float, depth: float, g: float = 9.81,
     wraps round into ``t``: linear waves in depth h travel no faster than
     :math:`\sqrt{g h}`, and what the flap does after ``t[-1]`` cannot reach ``x`` before.
     """
-    from .wavemaker import flap_height_to_stroke, wavenumber
+    from .wavemaker import flap_height_to_stroke, group_velocity, wavenumber
 
     t = np.asarray(t, dtype=float)
     angle = np.asarray(angle, dtype=float)
@@ -195,10 +205,10 @@ def flap_wave_record(t, angle, x: float, depth: float, g: float = 9.81,
     gain = np.zeros(omega.size, dtype=complex)
     for i in range(1, omega.size):
         k = wavenumber(omega[i], depth, g)
-        kh = k * depth
-        cg = 0.5 * omega[i] / k * (1.0 + (2.0 * kh / math.sinh(2.0 * kh) if kh < 350 else 0.0))
-        decay = viscous_wave_damping(nu, k) / cg * x if nu > 0.0 else 0.0
-        if decay > 700.0:
-            continue
-        gain[i] = 1j * flap_height_to_stroke(kh) * np.exp(-1j * k * x - decay)
+        decay = 0.0
+        if nu > 0.0:
+            decay = viscous_wave_damping(nu, k) / group_velocity(omega[i], depth, g) * x
+            if decay > 700.0:
+                continue
+        gain[i] = 1j * flap_height_to_stroke(k * depth) * np.exp(-1j * k * x - decay)
     return np.fft.irfft(spec * gain, n)[: t.size]

@@ -21,8 +21,10 @@ from .analysis import (
     oscillation_frequency,
     reflection_coefficient,
     validation_data_dir,
+    viscous_wave_damping,
     wave_statistics,
 )
+from .wavemaker import group_velocity
 
 #: Table II of Cao et al. (2019): first sloshing frequency of the U-shaped cabin, rad/s
 TABLE_II_SLOSHING = {0.25: 0.87, 0.5: 1.12, 0.75: 1.26}
@@ -79,16 +81,43 @@ def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]
         if finest is None or dx < float(finest.attrs["dx"]):
             finest = ds
     if finest is not None and finest["probe"].size >= 3:
-        t = finest["time"].values
-        xs = [_probe_x(finest, p) for p in finest["probe"].values]
-        if all(x is not None for x in xs):
-            etas = [finest["probe_elevation"].sel(probe=p).values for p in finest["probe"].values]
-            r = reflection_coefficient(t, etas, xs, float(finest.attrs["omega"]),
-                                       float(finest.attrs["theory_wavenumber"]), tuple(window))
-            rows.append(_row("wave_tank", f"dx = {float(finest.attrs['dx']):g} m",
-                             "reflection coefficient", r["coefficient"], None, "1",
-                             "absorbing zone (small is good)"))
+        sep = wave_separation(finest, window)
+        if sep is not None:
+            label = f"dx = {float(finest.attrs['dx']):g} m"
+            rows.append(_row("wave_tank", label, "reflection coefficient", sep["coefficient"],
+                             None, "1", "absorbing zone (small is good)"))
+            rows.append(_row("wave_tank", label, "incident amplitude at the flap",
+                             sep["incident"], float(finest.attrs["theory_amplitude"]), "m",
+                             "linear flap theory (probe array, artificial-viscosity decay)"))
     return rows
+
+
+def wave_separation(ds, window: Sequence[float]) -> dict | None:
+    """Incident and reflected waves of a ``wave_tank`` run from its surface probes
+    (:func:`sph.analysis.reflection_coefficient`), with the spatial decay that the run's
+    artificial viscosity gives the incident wave. Only probes between 0.6 depths from the
+    flap (where the evanescent modes of the flap, which decay as :math:`e^{-\pi x/h}`,
+    are down to 15 % of their size at the flap) and the start of the absorbing zone (where
+    the zone, not the viscosity, takes the wave's energy) count. None if fewer than three
+    probes qualify or a probe's x is unknown."""
+    names = list(ds["probe"].values)
+    xs = [_probe_x(ds, p) for p in names]
+    if any(x is None for x in xs):
+        return None
+    x_max = float(ds.attrs["absorber_start"]) if int(ds.attrs["absorber"]) else math.inf
+    keep = [i for i, x in enumerate(xs) if 0.6 * float(ds.attrs["depth"]) <= x <= x_max]
+    if len(keep) < 3:
+        return None
+    names = [names[i] for i in keep]
+    xs = [xs[i] for i in keep]
+    omega = float(ds.attrs["omega"])
+    k = float(ds.attrs["theory_wavenumber"])
+    g = float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
+    decay = viscous_wave_damping(run_viscosity(ds), k) / group_velocity(
+        omega, float(ds.attrs["depth"]), g)
+    etas = [ds["probe_elevation"].sel(probe=p).values for p in names]
+    return reflection_coefficient(ds["time"].values, etas, xs, omega, k, tuple(window),
+                                  decay=decay)
 
 
 def _probe_x(ds, name: str) -> float | None:
@@ -115,20 +144,39 @@ def run_viscosity(ds) -> float:
                                    float(ds.attrs["speed_of_sound"]))
 
 
-def linear_wave_record(ds, probe: str, nu: float = 0.0, dt: float = 0.05):
+def _flap_angles(ds, t) -> np.ndarray:
+    """Flap angle (rad) at the times ``t``: from the run's flap configuration where it can
+    be rebuilt (so it extends past the run's end), else the recorded ``flap_angle``."""
+    from .config import ConfigError, build_case
+    from .wavemaker import FlapMotion
+
+    try:
+        cfg = build_case(_run_config(ds))
+        motion = FlapMotion(cfg.geometry.wavemaker, cfg.geometry.depth, cfg.fluid.gravity)
+    except (ConfigError, OSError, AttributeError, KeyError, TypeError, ValueError):
+        return np.radians(np.interp(t, ds["time"].values, ds["flap_angle"].values))
+    return np.array([motion.angle(ti)[0] for ti in t])
+
+
+def linear_wave_record(ds, probe: str, nu: float = 0.0, dt: float = 0.05,
+                       pad: float = 60.0):
     """Linear theory at a probe of a ``wave_tank`` run, start-up transient included:
-    :func:`sph.analysis.flap_wave_record` driven by the flap angle the run recorded
-    (``flap_angle``, degrees), on a uniform grid of step ``dt`` from 0 to the run's end.
-    ``nu`` > 0 adds the viscous decay of each frequency (:func:`run_viscosity` gives the
-    run's own). Returns ``(t, eta)``."""
+    :func:`sph.analysis.flap_wave_record` driven by the run's flap motion, on a uniform grid
+    of step ``dt`` from 0 to the run's end. ``nu`` > 0 adds the viscous decay of each
+    frequency (:func:`run_viscosity` gives the run's own). The flap motion is continued
+    ``pad`` seconds past the run's end (from the run's configuration; where that cannot be
+    rebuilt, the recorded ``flap_angle`` is used and held), because the progressive-wave
+    solution, which leaves out the evanescent modes, feels a sudden stop of the flap a few
+    seconds before it happens. Returns ``(t, eta)``."""
     x = _probe_x(ds, probe)
     if x is None:
         raise ValueError(f"probe {probe!r} has no x in the run's configuration")
     g = float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
-    t_run = ds["time"].values
-    t = np.arange(0.0, float(t_run[-1]) + 0.5 * dt, dt)
-    angle = np.radians(np.interp(t, t_run, ds["flap_angle"].values))
-    return t, flap_wave_record(t, angle, x, float(ds.attrs["depth"]), g=g, nu=nu)
+    t_end = float(ds["time"].values[-1])
+    t = np.arange(0.0, t_end + pad + 0.5 * dt, dt)
+    eta = flap_wave_record(t, _flap_angles(ds, t), x, float(ds.attrs["depth"]), g=g, nu=nu)
+    keep = t <= t_end + 0.5 * dt
+    return t[keep], eta[keep]
 
 
 def sloshing(runs: Mapping[str, object]) -> list[dict]:

@@ -49,6 +49,14 @@ def wavenumber(omega: float, depth: float, g: float = 9.81) -> float:
     return k
 
 
+def group_velocity(omega: float, depth: float, g: float = 9.81) -> float:
+    """Linear group velocity :math:`c_g = \frac{\omega}{2k}\left(1 + \frac{2kh}
+    {\sinh 2kh}\right)` (m/s)."""
+    k = wavenumber(omega, depth, g)
+    kh = k * depth
+    return 0.5 * omega / k * (1.0 + (2.0 * kh / math.sinh(2.0 * kh) if kh < 350.0 else 0.0))
+
+
 def flap_height_to_stroke(kh: float) -> float:
     """Linear transfer function H/S of a bottom-hinged flap (Dean & Dalrymple)."""
     if kh > 20.0:  # sinh overflows long before; the expression is 2 (kh - 1) / kh there

@@ -15,6 +15,7 @@ from sph.wavemaker import (
     flap_height_to_stroke,
     flap_theta0,
     flap_wave_amplitude,
+    group_velocity,
     load_flap_file,
     wavenumber,
 )
@@ -37,6 +38,19 @@ def test_dispersion_relation_and_round_trip(omega, depth):
     assert omega**2 == pytest.approx(9.81 * k * math.tanh(k * depth), rel=1e-12)
     th = flap_theta0(0.1, omega, depth)
     assert flap_wave_amplitude(th, omega, depth) == pytest.approx(0.1, rel=1e-12)
+
+
+@pytest.mark.parametrize("omega, depth", [(1.0, 30.0), (0.3, 5.0), (0.05, 10.0), (8.0, 30.0)])
+def test_group_velocity_is_d_omega_d_k_with_its_limits(omega, depth):
+    k = wavenumber(omega, depth)
+    dk = 1e-6 * k
+    numeric = (math.sqrt(9.81 * (k + dk) * math.tanh((k + dk) * depth))
+               - math.sqrt(9.81 * (k - dk) * math.tanh((k - dk) * depth))) / (2 * dk)
+    assert group_velocity(omega, depth) == pytest.approx(numeric, rel=1e-6)
+    if k * depth < 0.1:  # shallow water: non-dispersive, sqrt(g h)
+        assert group_velocity(omega, depth) == pytest.approx(math.sqrt(9.81 * depth), rel=5e-3)
+    if k * depth > 10:  # deep water: half the phase speed
+        assert group_velocity(omega, depth) == pytest.approx(0.5 * omega / k, rel=1e-6)
 
 
 def test_flap_transfer_function_limits():
