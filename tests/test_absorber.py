@@ -21,6 +21,18 @@ def test_profile_is_the_hyperbolic_modave_form():
     assert np.all(np.diff([sigma(x, 0.0, ab) for x in xs]) > 0)
 
 
+def test_strength_scales_the_profile_speed():
+    base = absorber_params(CFG, speed=99.0, dx=DX)
+    strong = absorber_params(AbsorberConfig(start=90.0, length=60.0, speed=10.0, strength=2.0),
+                             speed=99.0, dx=DX)
+    default = absorber_params(AbsorberConfig(start=90.0, length=60.0, strength=2.0),
+                              speed=9.0, dx=DX)
+    for x in (95.0, 120.0, 149.8):
+        assert sigma(x, 1.0, strong) == pytest.approx(2.0 * sigma(x, 1.0, base), rel=1e-12)
+        assert sigma(x, 1.0, default) == pytest.approx(
+            2.0 * 9.0 / 60.0 * (x - 90.0) / (150.0 - x + DX), rel=1e-12)
+
+
 def test_one_sided_form_damps_only_backflow():
     ab = absorber_params(AbsorberConfig(start=90.0, length=60.0, speed=10.0,
                                         form="one_sided"), speed=1.0, dx=DX)

@@ -90,7 +90,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  omega=g.wavemaker.omega, ramp_time=g.wavemaker.ramp_time,
                  flap_file=g.wavemaker.file or "", absorber=int(g.absorber.enabled),
                  absorber_start=g.absorber.start, absorber_length=g.absorber.length,
-                 absorber_form=g.absorber.form, theory_amplitude=th["amplitude"],
+                 absorber_form=g.absorber.form, absorber_strength=g.absorber.strength,
+                 theory_amplitude=th["amplitude"],
                  theory_wavenumber=th["wavenumber"], theory_wavelength=th["wavelength"])
     return CaseSetup(parts, bounds, g.depth, motions=[motion],
                      diagnostics={"flap_angle": flap_angle}, attrs=attrs,

@@ -21,7 +21,12 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from sph.analysis import harmonic_fit, viscous_wave_damping  # noqa: E402
-from sph.validation import _probe_x, run_viscosity, wave_separation  # noqa: E402
+from sph.validation import (  # noqa: E402
+    _probe_x,
+    _run_config,
+    run_viscosity,
+    wave_separation,
+)
 from sph.wavemaker import group_velocity  # noqa: E402
 
 WINDOW = (40.0, 60.0)
@@ -48,7 +53,10 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         xs, amps = xs[order], amps[order]
         near = xs < 0.6 * depth
         dx = float(ds.attrs["dx"])
-        label = f"SPH dx = {dx:g} m = {dx / a:.2f} A"
+        zone = (_run_config(ds).get("geometry") or {}).get("absorber") or {}
+        c_phase = omega / k
+        c_zone = (zone.get("speed") or c_phase) * zone.get("strength", 1.0)
+        label = f"SPH dx = {dx:g} m = {dx / a:.2f} A, zone c = {c_zone / c_phase:.2g} x phase speed"
         ax.plot(xs[~near], amps[~near], "o", color=colour, ms=5, label=label)
         ax.plot(xs[near], amps[near], "o", color=colour, ms=5, mfc="none")
         nu = run_viscosity(ds)
