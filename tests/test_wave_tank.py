@@ -6,15 +6,19 @@ compare with linear theory (A = 1.02 m, T = 2 pi s). Tolerances: amplitude 10 % 
 dx = 0.4 A (a wave height is resolved by 5 particles; SPH dissipation over two wavelengths
 and the weakly-compressible surface both lower it) and 5 % at dx = 0.2 A (the dissipation,
 like the artificial viscosity alpha h c0, scales with h), period 1 % (set by the flap),
-reflection below 5 % with the absorbing zone. Both resolutions are judged over the same
-window, 40-60 s: the amplitude at WP2 still falls slowly after the start-up transient has
-passed (at dx = 0.4 A: -3.8 % over 18-30 s, -6.1 % over 24-38 s, -8.5 % over 40-60 s), so a
-shorter run would flatter the finer one. A dx = 0.4 A run is 3.2 G particle-steps (30 457
-particles, 105 280 steps), a dx = 0.2 A run about 25 G (117 000 particles, 210 000 steps): at
-the 1.0 to 3.2 M particle-steps/s of two threads on the 2-core machines measured so far,
-20 to 50 minutes and 2.2 to 7 hours; results are in the README. A dx = 0.2 A run stopped at
-t = 41 s gave WP2 -2.1, -4.5 and -6.6 % over 18-30, 24-38 and 30-41 s (WP1 about -3 %): the
-0.2A case is expected to fail at WP2 over 40-60 s until that drift is understood.
+reflection below 5 % with the absorbing zone, and the incident wave extrapolated back to the
+flap within 3 % of theory. Both resolutions are judged over the same window, 40-60 s: the
+wave reflected by the zone reaches WP2 after about 30 s and WP1 after about 40 s, and the
+two probes, half a wavelength apart, both sit near nodes of the partial standing wave it
+makes (README, Validation: with a probe every 3 m at dx = 1 A and 0.6 A the incident wave
+is within 1 % of theory at the flap, decays at the artificial viscosity's rate, and the
+zone reflects 1.9 % with strength 1, 0.8-0.9 % with the built-in case's strength 2). A
+dx = 0.4 A run is 3.2 G particle-steps (30 457 particles, 105 280 steps), a dx = 0.2 A run
+about 25 G (117 000 particles, 210 000 steps): at the 1.0 to 3.2 M particle-steps/s of two
+threads on the 2-core machines measured so far, 20 to 50 minutes and 2.2 to 7 hours;
+results are in the README. A dx = 0.2 A run with strength 1 stopped at t = 41 s gave WP2
+-2.1, -4.5 and -6.6 % over 18-30, 24-38 and 30-41 s (WP1 about -3 %); with strength 2 the
+expected WP2 over 40-60 s is about -3.5 %, not yet measured.
 """
 
 import math
