@@ -184,8 +184,11 @@ def flap_wave_record(t, angle, x: float, depth: float, g: float = 9.81,
     of :func:`artificial_viscosity_nu`, gives a progressive wave.
 
     The record is zero-padded to 16 times its length (at least 4096 s), so that nothing
-    wraps round into ``t``: linear waves in depth h travel no faster than
-    :math:`\sqrt{g h}`, and what the flap does after ``t[-1]`` cannot reach ``x`` before.
+    wraps round into ``t``. The flap is taken to stop at ``t[-1]``; because the sum of
+    progressive waves is not strictly causal near the flap (the evanescent modes left out
+    would cancel the difference), that stop shows in the last seconds of the result, by a
+    few per cent at x = 0.2 h. Continue the motion past the times of interest
+    (:func:`sph.validation.linear_wave_record` adds 60 s).
     """
     from .wavemaker import flap_height_to_stroke, group_velocity, wavenumber
 

@@ -93,7 +93,7 @@ def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]
 
 
 def wave_separation(ds, window: Sequence[float]) -> dict | None:
-    """Incident and reflected waves of a ``wave_tank`` run from its surface probes
+    r"""Incident and reflected waves of a ``wave_tank`` run from its surface probes
     (:func:`sph.analysis.reflection_coefficient`), with the spatial decay that the run's
     artificial viscosity gives the incident wave. Only probes between 0.6 depths from the
     flap (where the evanescent modes of the flap, which decay as :math:`e^{-\pi x/h}`,

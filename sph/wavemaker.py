@@ -50,7 +50,7 @@ def wavenumber(omega: float, depth: float, g: float = 9.81) -> float:
 
 
 def group_velocity(omega: float, depth: float, g: float = 9.81) -> float:
-    """Linear group velocity :math:`c_g = \frac{\omega}{2k}\left(1 + \frac{2kh}
+    r"""Linear group velocity :math:`c_g = \frac{\omega}{2k}\left(1 + \frac{2kh}
     {\sinh 2kh}\right)` (m/s)."""
     k = wavenumber(omega, depth, g)
     kh = k * depth
