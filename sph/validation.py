@@ -101,7 +101,8 @@ def wave_separation(ds, window: Sequence[float]) -> dict | None:
     the zone, not the viscosity, takes the wave's energy) count. None if fewer than three
     probes qualify or a probe's x is unknown."""
     names = list(ds["probe"].values)
-    xs = [_probe_x(ds, p) for p in names]
+    positions = probe_positions(ds)
+    xs = [positions.get(p) for p in names]
     if any(x is None for x in xs):
         return None
     x_max = float(ds.attrs["absorber_start"]) if int(ds.attrs["absorber"]) else math.inf
@@ -110,28 +111,35 @@ def wave_separation(ds, window: Sequence[float]) -> dict | None:
         return None
     names = [names[i] for i in keep]
     xs = [xs[i] for i in keep]
-    omega = float(ds.attrs["omega"])
-    k = float(ds.attrs["theory_wavenumber"])
-    g = float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
-    decay = viscous_wave_damping(run_viscosity(ds), k) / group_velocity(
-        omega, float(ds.attrs["depth"]), g)
     etas = [ds["probe_elevation"].sel(probe=p).values for p in names]
-    return reflection_coefficient(ds["time"].values, etas, xs, omega, k, tuple(window),
-                                  decay=decay)
+    return reflection_coefficient(ds["time"].values, etas, xs, float(ds.attrs["omega"]),
+                                  float(ds.attrs["theory_wavenumber"]), tuple(window),
+                                  decay=run_wave_decay(ds))
 
 
-def _probe_x(ds, name: str) -> float | None:
-    cfg = _run_config(ds)
-    for p in (cfg.get("probes") or {}).get("surface") or []:
-        if p.get("name") == name:
-            return float(p["x"])
-    return None
+def probe_positions(ds) -> dict[str, float]:
+    """x (m) of each surface probe of a run, by name, from the run's configuration."""
+    surface = (_run_config(ds).get("probes") or {}).get("surface") or []
+    return {str(p["name"]): float(p["x"]) for p in surface if "name" in p and "x" in p}
 
 
 def _run_config(ds) -> dict:
     import yaml
 
     return yaml.safe_load(ds.attrs.get("config", "")) or {}
+
+
+def _run_gravity(ds) -> float:
+    return float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
+
+
+def run_wave_decay(ds) -> float:
+    """Spatial amplitude decay rate (1/m) that the artificial viscosity of a ``wave_tank``
+    run gives its progressive wave: :func:`sph.analysis.viscous_wave_damping` with
+    :func:`run_viscosity`, over the group velocity."""
+    omega = float(ds.attrs["omega"])
+    return viscous_wave_damping(run_viscosity(ds), float(ds.attrs["theory_wavenumber"])) / (
+        group_velocity(omega, float(ds.attrs["depth"]), _run_gravity(ds)))
 
 
 def run_viscosity(ds) -> float:
@@ -168,10 +176,10 @@ def linear_wave_record(ds, probe: str, nu: float = 0.0, dt: float = 0.05,
     rebuilt, the recorded ``flap_angle`` is used and held), because the progressive-wave
     solution, which leaves out the evanescent modes, feels a sudden stop of the flap a few
     seconds before it happens. Returns ``(t, eta)``."""
-    x = _probe_x(ds, probe)
+    x = probe_positions(ds).get(probe)
     if x is None:
         raise ValueError(f"probe {probe!r} has no x in the run's configuration")
-    g = float((_run_config(ds).get("fluid") or {}).get("gravity", 9.81))
+    g = _run_gravity(ds)
     t_end = float(ds["time"].values[-1])
     t = np.arange(0.0, t_end + pad + 0.5 * dt, dt)
     eta = flap_wave_record(t, _flap_angles(ds, t), x, float(ds.attrs["depth"]), g=g, nu=nu)

@@ -20,14 +20,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import harmonic_fit, viscous_wave_damping  # noqa: E402
+from sph.analysis import harmonic_fit  # noqa: E402
 from sph.validation import (  # noqa: E402
-    _probe_x,
     _run_config,
+    probe_positions,
     run_viscosity,
+    run_wave_decay,
     wave_separation,
 )
-from sph.wavemaker import group_velocity  # noqa: E402
 
 WINDOW = (40.0, 60.0)
 
@@ -43,10 +43,11 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         k = float(ds.attrs["theory_wavenumber"])
         depth = float(ds.attrs["depth"])
         sel = (t >= window[0]) & (t <= window[1])
+        positions = probe_positions(ds)
         xs, amps = [], []
         for probe in ds.probe.values:
             z, _ = harmonic_fit(t[sel], ds.probe_elevation.sel(probe=probe).values[sel], omega)
-            xs.append(_probe_x(ds, str(probe)))
+            xs.append(positions[str(probe)])
             amps.append(abs(z) / a)
         xs, amps = np.array(xs), np.array(amps)
         order = np.argsort(xs)
@@ -60,7 +61,7 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         ax.plot(xs[~near], amps[~near], "o", color=colour, ms=5, label=label)
         ax.plot(xs[near], amps[near], "o", color=colour, ms=5, mfc="none")
         nu = run_viscosity(ds)
-        beta = viscous_wave_damping(nu, k) / group_velocity(omega, depth)
+        beta = run_wave_decay(ds)
         xf = np.linspace(0.0, float(ds.attrs["absorber_start"]) if int(ds.attrs["absorber"])
                          else float(ds.attrs["tank_length"]), 300)
         ax.plot(xf, np.exp(-beta * xf), "--", color=colour, lw=1,
