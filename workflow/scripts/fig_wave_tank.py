@@ -39,7 +39,8 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
             s = steady_wave(t, eta, omega, window)
             dx = float(ds.attrs["dx"])
             ax.plot(t, eta, lw=1, label=f"SPH dx = {dx:g} m = {dx / a:.2f} A")
-            notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m")
+            notes.append(f"{dx / a:.1f}A: {s['amplitude']:.3f} m "
+                         f"({100 * (s['amplitude'] / a - 1):+.1f} %)")
         finest = sets[-1]
         t, eta = linear_wave_record(finest, probe)
         ax.plot(t, eta, "k--", lw=1, label=f"linear theory, A = {a:.3f} m")
@@ -50,7 +51,8 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         ax.axvspan(*window, color="0.92", zorder=-1)
         ax.set(ylabel=f"$\\eta$ at {probe} (m)",
                title=f"{probe}: steady amplitude " + ", ".join(notes))
-        ax.legend(fontsize=8, loc="lower left", ncol=2)
+        ax.set_ylim(-1.8 * a, 1.35 * a)  # room for the legend below the troughs
+        ax.legend(fontsize=8, loc="lower left", ncol=3)
     axes[-1, 0].set_xlabel("t (s)")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
