@@ -21,7 +21,9 @@ Two forms are offered (``form``):
     wavemaker) are damped.
 
 The two-sided form is the default: by construction the one-sided form leaves the forward half
-of each orbital cycle undamped, so a wave reaches the end wall less attenuated.
+of each orbital cycle undamped, so a wave reaches the end wall less attenuated. Measured in
+the paper's tank at dx = 1 A over 40-60 s with a probe array, the one-sided form reflects
+2.5 % against the two-sided 1.9 % at ``strength`` 1, and 1.6 % against 0.8 % at 2.
 
 ``strength`` multiplies :math:`c`. The reflection of the paper's tank (a one-wavelength zone,
 kh = 3.1) measured at dx = 1 A over 40-60 s with a probe array
