@@ -92,6 +92,12 @@ def wave_tank(runs: Mapping[str, object], window: Sequence[float]) -> list[dict]
     return rows
 
 
+#: probes nearer the flap than this many depths sit in its near field (evanescent modes, which
+#: decay as exp(-pi x / h), still 15 % of their size at the flap there) and are left out of the
+#: incident/reflected fit
+NEAR_FIELD_DEPTHS = 0.6
+
+
 def wave_separation(ds, window: Sequence[float]) -> dict | None:
     r"""Incident and reflected waves of a ``wave_tank`` run from its surface probes
     (:func:`sph.analysis.reflection_coefficient`), with the spatial decay that the run's
@@ -106,7 +112,8 @@ def wave_separation(ds, window: Sequence[float]) -> dict | None:
     if any(x is None for x in xs):
         return None
     x_max = float(ds.attrs["absorber_start"]) if int(ds.attrs["absorber"]) else math.inf
-    keep = [i for i, x in enumerate(xs) if 0.6 * float(ds.attrs["depth"]) <= x <= x_max]
+    x_min = NEAR_FIELD_DEPTHS * float(ds.attrs["depth"])
+    keep = [i for i, x in enumerate(xs) if x_min <= x <= x_max]
     if len(keep) < 3:
         return None
     names = [names[i] for i in keep]

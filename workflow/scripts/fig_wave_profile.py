@@ -22,6 +22,7 @@ import xarray as xr  # noqa: E402
 
 from sph.analysis import harmonic_fit  # noqa: E402
 from sph.validation import (  # noqa: E402
+    NEAR_FIELD_DEPTHS,
     _run_config,
     probe_positions,
     run_viscosity,
@@ -52,7 +53,7 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         xs, amps = np.array(xs), np.array(amps)
         order = np.argsort(xs)
         xs, amps = xs[order], amps[order]
-        near = xs < 0.6 * depth
+        near = xs < NEAR_FIELD_DEPTHS * depth
         dx = float(ds.attrs["dx"])
         zone = (_run_config(ds).get("geometry") or {}).get("absorber") or {}
         c_phase = omega / k
