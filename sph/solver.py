@@ -333,6 +333,8 @@ class Simulation:
                      kernel=self.cfg.numerics.kernel,
                      density_filter=self.cfg.numerics.density_filter, dx=self.cfg.numerics.dx,
                      particle_steps_per_second=round(self.particle_steps_per_second(), 1))
+        if self.setup.absorber[0] != 0.0:  # the zone's effective c (speed x strength), m/s
+            attrs.update(absorber_speed=float(self.setup.absorber[3]))
         return build_dataset(rec.time, series, probes=probes or None, attrs=attrs,
                              config_yaml=self.cfg.to_yaml())
 

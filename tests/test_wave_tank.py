@@ -187,6 +187,8 @@ def test_flap_drives_the_water_next_to_it():
     assert eta[np.argmin(abs(t - 1.8))] > 0.2
     assert eta[np.argmin(abs(t - 4.9))] < -0.2
     assert abs(ds.volume_error.values).max() < 0.01
+    # the run records the zone's effective c: strength 2 x the phase speed omega / k
+    assert ds.attrs["absorber_speed"] == pytest.approx(2.0 * OMEGA / K, rel=1e-9)
     s = wave_statistics(t, ds.probe_elevation.sel(probe="WP1").values, OMEGA, (15.0, 30.0))
     theory = ds.attrs["theory_amplitude"]
     assert abs(s["amplitude"] / theory - 1.0) < 0.10, (s, theory)

@@ -55,9 +55,11 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
         xs, amps = xs[order], amps[order]
         near = xs < NEAR_FIELD_DEPTHS * depth
         dx = float(ds.attrs["dx"])
-        zone = (_run_config(ds).get("geometry") or {}).get("absorber") or {}
         c_phase = omega / k
-        c_zone = (zone.get("speed") or c_phase) * zone.get("strength", 1.0)
+        c_zone = float(ds.attrs.get("absorber_speed", 0.0))
+        if not c_zone:  # runs written before the attribute existed: from their configuration
+            zone = (_run_config(ds).get("geometry") or {}).get("absorber") or {}
+            c_zone = (zone.get("speed") or c_phase) * zone.get("strength", 1.0)
         label = f"SPH dx = {dx:g} m = {dx / a:.2f} A, zone c = {c_zone / c_phase:.2g} x phase speed"
         ax.plot(xs[~near], amps[~near], "o", color=colour, ms=5, label=label)
         ax.plot(xs[near], amps[near], "o", color=colour, ms=5, mfc="none")
