@@ -3,7 +3,7 @@
 
 dx = 0.016 m puts 3 particles over the box height (0.05 m) and 2 over its draught (0.034 m),
 so the tolerances are those of a coarse run, measured here and in
-``docs/validation/floating_box.md`` (where dx = 0.01 m is closer still): the incident wave
+``docs/validation/floating_box.md``: the incident wave
 (WP1, 1.16 m from the flap) must match the measured one in amplitude, phase and shape; the
 box's heave and roll, which follow the wave, must match in phase and shape and their
 amplitudes within the error that three particles over the box allow; the sway (a slow
