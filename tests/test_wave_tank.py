@@ -19,7 +19,7 @@ threads on the 2-core machines measured so far, 20 to 50 minutes and 2.2 to 7 ho
 results are in docs/validation/wave_tank.md. Measured over 40-60 s: WP1 / WP2 -2.5 / -6.8 %
 at 0.4 A and -1.7 / -5.1 % at 0.2 A, so the 0.2 A case fails on WP2 by 0.1 point: the wave
 loses 2-4 % more along the tank than the artificial viscosity's decay, and that loss grows as
-dx shrinks (its source is open; at 1 A the density filter changes it by under 1 point).
+dx shrinks (its source is open; at 0.6 A delta-SPH instead of MLS changes it by 0.2 point).
 """
 
 import math
