@@ -11,7 +11,10 @@ import xarray as xr
 from sph.analysis import validation_data_dir
 from sph.cases.base import load_defaults
 from sph.config import apply_overrides, build_case
+from sph.damage import no_opening
+from sph.fluid import interact
 from sph.solver import Simulation
+from sph.walls import fixed_kinematics
 
 
 def run_builtin(case: str, overrides) -> Simulation:
@@ -44,3 +47,26 @@ def assert_same_series(a: xr.Dataset, b: xr.Dataset) -> None:
             assert np.array_equal(x, y, equal_nan=True), name
         else:
             assert np.array_equal(x, y), name
+
+
+def sort_by_cells(grid, x, z, *arrays):
+    """``x, z`` and ``arrays`` reordered by the cells of ``grid`` (every particle inside)."""
+    assert grid.sort(x, z) == 0
+    return [a[grid.order].copy() for a in (x, z, *arrays)]
+
+
+def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
+                    delta_coef=0.0, ddt_rho=0.0, shift=None):
+    """One call of :func:`sph.fluid.interact` on fluid particles alone, already sorted by
+    ``grid``: no walls, no body, no opening, no pressure, density gradients zero.
+
+    Returns ``ax, az, drho, sx, sz`` (the shifts stay zero unless ``shift`` is given).
+    """
+    n = len(x)
+    zero = np.zeros(n)
+    ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
+    interact(x, z, vx, vz, rho, zero, m, np.zeros(n, np.int32), np.full(n, -1, np.int32),
+             np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp, visc_coef,
+             0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
+             fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz)
+    return ax, az, drho, sx, sz

@@ -25,13 +25,11 @@ import math
 
 import numpy as np
 import pytest
+from physics_helpers import fluid_pair_loop, sort_by_cells
 
 from sph.analysis import artificial_viscosity_nu, viscous_wave_damping
-from sph.damage import no_opening
-from sph.fluid import interact
 from sph.kernels import DEFAULT_H_FACTOR, kernel_params
 from sph.neighbours import CellGrid
-from sph.walls import fixed_kinematics
 
 RHO0 = 1000.0
 ALPHA = 0.02
@@ -52,19 +50,13 @@ def _dissipation_ratio(per_wavelength: int, kernel: str) -> float:
     h = DEFAULT_H_FACTOR[kernel] * dx
     kp = kernel_params(kernel, h)
     grid = CellGrid(-dx, nx * dx + dx, -depth - dx, dx, math.sqrt(kp[3]))
-    assert grid.sort(x, z) == 0
-    x, z = x[grid.order].copy(), z[grid.order].copy()
+    x, z = sort_by_cells(grid, x, z)
     n = len(x)
     speed = AMPLITUDE * OMEGA * np.exp(k * z)  # deep-water potential flow at t = 0
     vx, vz = speed * np.cos(k * x), speed * np.sin(k * x)
-    rho = np.full(n, RHO0)
     m = np.full(n, RHO0 * dx * dx)
-    zero = np.zeros(n)
-    ax, az, drho = np.zeros(n), np.zeros(n), np.zeros(n)
-    interact(x, z, vx, vz, rho, zero, m, np.zeros(n, np.int32), np.full(n, -1, np.int32),
-             np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp,
-             2.0 * ALPHA * h * C0, 0.0, 0.0, 0.0, 0.0, zero, zero, ax, az, drho, no_opening(),
-             fixed_kinematics(1), np.zeros(3), zero.copy(), zero.copy())
+    ax, az, _, _, _ = fluid_pair_loop(x, z, vx, vz, np.full(n, RHO0), m, grid, kp,
+                                      visc_coef=2.0 * ALPHA * h * C0)
     middle = (x > WAVELENGTH) & (x < 2 * WAVELENGTH)
     power = np.sum((m * (vx * ax + vz * az))[middle])
     energy = np.sum((m * (vx * vx + vz * vz))[middle])  # twice the kinetic energy

@@ -11,12 +11,10 @@ perturbation of that field: sum of V_i (rho_i - rho_H,i) D_i below zero.
 import math
 
 import numpy as np
+from physics_helpers import fluid_pair_loop, sort_by_cells
 
-from sph.damage import no_opening
-from sph.fluid import interact
 from sph.kernels import kernel_params
 from sph.neighbours import CellGrid
-from sph.walls import fixed_kinematics
 
 DX = 0.1
 RHO0 = 1000.0
@@ -34,18 +32,13 @@ def _rates(rho_field, ddt=True):
     n = len(x)
     kp = kernel_params("gaussian", 1.23 * DX)
     grid = CellGrid(-1.0, 4.0, -1.0, 4.0, math.sqrt(kp[3]))
-    assert grid.sort(x, z) == 0
-    o = grid.order
-    x, z = x[o].copy(), z[o].copy()
+    x, z = sort_by_cells(grid, x, z)
     rho = rho_field(z)
     m = np.full(n, RHO0 * DX * DX)
     zero = np.zeros(n)
-    ax, az, drho = np.zeros(n), np.zeros(n), np.zeros(n)
-    delta_coef = 0.1 * kp[1] * C0
-    interact(x, z, zero, zero, rho, zero, m, np.zeros(n, np.int32), np.full(n, -1, np.int32),
-             np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp, 0.0, 0.0, -G,
-             delta_coef, RHO0 / C0**2 if ddt else 0.0, zero, zero, ax, az, drho, no_opening(),
-             fixed_kinematics(1), np.zeros(3), zero.copy(), zero.copy())
+    _, _, drho, _, _ = fluid_pair_loop(x, z, zero, zero, rho, m, grid, kp, gz=-G,
+                                       delta_coef=0.1 * kp[1] * C0,
+                                       ddt_rho=RHO0 / C0**2 if ddt else 0.0)
     return z, rho, m / rho, drho
 
 

@@ -12,13 +12,11 @@ import math
 
 import numpy as np
 import pytest
+from physics_helpers import fluid_pair_loop, sort_by_cells
 
-from sph.damage import no_opening
-from sph.fluid import interact
 from sph.kernels import kernel_params, w_r2
 from sph.neighbours import CellGrid
 from sph.shifting import PACKED, apply_shift, shift_params, shifting_coefficient
-from sph.walls import fixed_kinematics
 
 DX = 0.1
 RHO0 = 1000.0
@@ -40,29 +38,20 @@ class _State:
         self.x, self.z = pts[:, 0].copy(), pts[:, 1].copy()
         self.rho = np.full(n, RHO0)
         self.m = np.full(n, RHO0 * DX * DX)
-        self.kind = np.zeros(n, np.int32)
-        self.body = np.full(n, -1, np.int32)
-        self.comp = np.zeros(n, np.int32)
+        self.kind = np.zeros(n, np.int32)  # all fluid
         self.kp = kernel_params("gaussian", 1.23 * DX)
         r = math.sqrt(self.kp[3])
         self.grid = CellGrid(-1.0, 4.0, -1.0, 4.0, r)
         self.shift_params = shift_params(1.0, 0.2, 10.0, self.kp, DX)
 
     def shift(self):
-        g = self.grid
-        assert g.sort(self.x, self.z) == 0
-        o = g.order
-        for name in ("x", "z", "rho", "m", "kind", "body", "comp"):
-            setattr(self, name, getattr(self, name)[o].copy())
-        n = len(o)
-        self.sx, self.sz = np.zeros(n), np.zeros(n)
-        zero = np.zeros(n)
-        ax, az, drho = np.zeros(n), np.zeros(n), np.zeros(n)
+        self.x, self.z, self.rho, self.m = sort_by_cells(self.grid, self.x, self.z, self.rho,
+                                                         self.m)
+        zero = np.zeros(len(self.x))
         # the shift is summed in the pair loop of the momentum equation (at rest, no pressure)
-        interact(self.x, self.z, zero, zero, self.rho, zero, self.m, self.kind, self.body,
-                 self.comp, g.cell_of, g.cell_start, g.ncx, self.kp, 0.0, 0.0, 0.0, 0.0, 0.0,
-                 zero, zero, ax, az, drho, no_opening(), fixed_kinematics(1), self.shift_params,
-                 self.sx, self.sz)
+        _, _, _, self.sx, self.sz = fluid_pair_loop(self.x, self.z, zero, zero, self.rho,
+                                                    self.m, self.grid, self.kp,
+                                                    shift=self.shift_params)
         return self.sx, self.sz
 
     def kernel_sums(self):
