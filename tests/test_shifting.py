@@ -49,10 +49,9 @@ class _State:
                                                          self.m)
         zero = np.zeros(len(self.x))
         # the shift is summed in the pair loop of the momentum equation (at rest, no pressure)
-        _, _, _, self.sx, self.sz = fluid_pair_loop(self.x, self.z, zero, zero, self.rho,
-                                                    self.m, self.grid, self.kp,
-                                                    shift=self.shift_params)
-        return self.sx, self.sz
+        _, _, _, sx, sz = fluid_pair_loop(self.x, self.z, zero, zero, self.rho, self.m,
+                                          self.grid, self.kp, shift=self.shift_params)
+        return sx, sz
 
     def kernel_sums(self):
         d2 = (self.x[:, None] - self.x[None, :]) ** 2 + (self.z[:, None] - self.z[None, :]) ** 2
