@@ -16,9 +16,10 @@ import json
 import statistics
 import time
 
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.config import apply_overrides, build_case
-from sph.solver import Simulation
+from sph.driver import Simulation
+from sph.schema import apply_overrides
 
 SIZES = {"20k": 0.01, "80k": 0.005}  # dx (m): 100 x 200 and 200 x 400 fluid particles
 KERNELS = {"wendland": 1.41, "gaussian": 1.23}

@@ -4,7 +4,7 @@ Builds the built-in ``damaged_ship`` case (coarse dx = 0.8 m unless ``--dx``: tw
 segments, 13 976 fluid + 3 290 wall particles, the cost unit of a Table I case of the
 workflow) with the damage opening already open (``--damage-period``, in wave periods, 0.005
 by default: the line-of-sight tests at the opening run from the start), warms up, then times
-``--steps`` steps with every stage of :meth:`sph.solver.Simulation.evaluate` and
+``--steps`` steps with every stage of :meth:`sph.driver.Simulation.evaluate` and
 ``advance`` wrapped in a timer. Prints the stages by time and, as its last line, a JSON
 object (median rate over ``--repeat`` runs, and the stage times of the last one).
 
@@ -19,11 +19,12 @@ import json
 import statistics
 import time
 
-from sph import solver
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.config import apply_overrides, build_case
-from sph.neighbours import CellGrid
-from sph.particles import Particles
+from sph.engine import stepper as solver
+from sph.engine.neighbours import CellGrid
+from sph.engine.particles import Particles
+from sph.schema import apply_overrides
 
 #: engine stages called from the solver module (numba kernels)
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",

@@ -1,7 +1,7 @@
 """Command-line interface: ``sph run``, ``sph example``, ``sph cases``.
 
 ``sph run CASE.yaml -o OUT.nc`` keeps checkpoints in ``OUT.nc.ckpt/`` (see
-:mod:`sph.checkpoint`) and by default resumes from the newest valid one: running the same
+:mod:`sph.io.checkpoint`) and by default resumes from the newest valid one: running the same
 command again after a kill, a pre-emption or a full disk continues the run. ``--restart``
 deletes the checkpoints and starts from t = 0; ``--no-restart`` never starts from t = 0 (it
 fails when there is nothing to resume).
@@ -29,8 +29,11 @@ import os
 import sys
 from pathlib import Path
 
-from . import __version__
-from .config import ConfigError
+from sph import __version__
+from sph.cases import CASES, example_text, load_case
+from sph.driver import RunInterrupted, Simulation, SimulationError
+from sph.io.checkpoint import checkpoint_dir, resume_or_start
+from sph.schema import ConfigError
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -67,8 +70,6 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s")
-    from .cases import CASES
-
     if args.command == "cases":
         for name, mod in CASES.items():
             doc = (sys.modules[mod.__module__].__doc__ if isinstance(mod, type) else
@@ -80,8 +81,6 @@ def main(argv=None) -> int:
             print(f"error: unknown case {args.name!r}; built-in cases: "
                   f"{', '.join(CASES)}", file=sys.stderr)
             return 2
-        from .cases.base import example_text
-
         sys.stdout.write(example_text(args.name))
         return 0
     try:
@@ -92,9 +91,6 @@ def main(argv=None) -> int:
 
 
 def _run(args) -> int:
-    from .checkpoint import checkpoint_dir, resume_or_start
-    from .config import load_case
-    from .solver import RunInterrupted, Simulation, SimulationError
 
     overrides = list(args.overrides)
     if args.threads is not None:

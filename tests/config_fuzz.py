@@ -167,10 +167,11 @@ def _walk(cls, data: dict, prefix: str, leaves, sections, lists) -> None:
 
 
 def case_schema(name: str) -> Schema:
-    """The schema of the built-in case ``name`` (:mod:`sph.config`)."""
-    from sph.cases import CASES
+    """The schema of the built-in case ``name`` (:mod:`sph.schema`)."""
+    from sph.cases import CASES, build_case, load_case
     from sph.cases.base import load_defaults
-    from sph.config import CaseConfig, ConfigError, build_case, load_case
+    from sph.engine.config import CaseConfig
+    from sph.schema import ConfigError
 
     valid = build_case(load_defaults(name)).to_dict()
     leaves: list[Leaf] = [Leaf("title", str)]

@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sph.analysis import validation_data_dir
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.config import apply_overrides, build_case
-from sph.damage import no_opening
-from sph.fluid import interact
-from sph.solver import Simulation
-from sph.walls import fixed_kinematics
+from sph.driver import Simulation
+from sph.engine.fluid import interact
+from sph.engine.opening import no_opening
+from sph.engine.walls import fixed_kinematics
+from sph.schema import apply_overrides
+from sph.study.analysis import validation_data_dir
 
 
 def run_builtin(case: str, overrides) -> Simulation:
@@ -57,7 +58,7 @@ def sort_by_cells(grid, x, z, *arrays):
 
 def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
                     delta_coef=0.0, ddt_rho=0.0, shift=None):
-    """One call of :func:`sph.fluid.interact` on fluid particles alone, already sorted by
+    """One call of :func:`sph.engine.fluid.interact` on fluid particles alone, already sorted by
     ``grid``: no walls, no body, no opening, no pressure, density gradients zero.
 
     Returns ``ax, az, drho, sx, sz`` (the shifts stay zero unless ``shift`` is given).

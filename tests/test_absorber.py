@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from sph.absorber import AbsorberConfig, absorber_params, sigma
-from sph.integrator import verlet_update
+from sph.engine.absorber import AbsorberConfig, absorber_params, sigma
+from sph.engine.integrator import verlet_update
 
 CFG = AbsorberConfig(start=90.0, length=60.0, speed=10.0)
 DX = 0.4

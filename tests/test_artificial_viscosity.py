@@ -1,7 +1,7 @@
-"""The artificial viscosity of :func:`sph.fluid.interact` as a physical viscosity: the rate
+"""The artificial viscosity of :func:`sph.engine.fluid.interact` as a physical viscosity: the rate
 at which it dissipates a linear progressive gravity wave against Lamb's (1932, Sec. 348)
 :math:`dE/dt = -4 \\nu k^2 E` with :math:`\\nu = \\alpha h c_0 / 8`
-(:func:`sph.analysis.artificial_viscosity_nu`, Monaghan 2005).
+(:func:`sph.study.analysis.artificial_viscosity_nu`, Monaghan 2005).
 
 A deep-water wave's velocity field (linear potential flow) is laid on a square lattice of
 fluid particles filling the water column below a flat surface, one and a half wavelengths
@@ -11,7 +11,7 @@ the particles of the middle wavelength (whose kernels are cut only by the free s
 over twice their kinetic energy (the wave's energy: kinetic and potential are equal) is the
 SPH decay rate of the energy.
 
-The wave tank's reference decay (:func:`sph.validation.run_wave_decay`) relies on this
+The wave tank's reference decay (:func:`sph.study.validation.run_wave_decay`) relies on this
 continuum limit. In a deep-water wave the dissipation is concentrated within
 :math:`1/2k` of the surface, where the kernel is cut: the surface particles miss the pairs
 above them, so the SPH rate is below Lamb's by a fraction that scales with :math:`dx/\\lambda`
@@ -27,9 +27,9 @@ import numpy as np
 import pytest
 from physics_helpers import fluid_pair_loop, sort_by_cells
 
-from sph.analysis import artificial_viscosity_nu, viscous_wave_damping
-from sph.kernels import DEFAULT_H_FACTOR, kernel_params
-from sph.neighbours import CellGrid
+from sph.engine.kernels import DEFAULT_H_FACTOR, kernel_params
+from sph.engine.neighbours import CellGrid
+from sph.study.analysis import artificial_viscosity_nu, viscous_wave_damping
 
 RHO0 = 1000.0
 ALPHA = 0.02

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from physics_helpers import run_builtin
 
-from sph.bodies import DofConfig, RigidBody
+from sph.bodies.rigid import DofConfig, RigidBody
 
 
 def test_free_fall_is_exact_and_masks_fix_motions():

@@ -26,8 +26,11 @@ import pytest
 import xarray as xr
 from physics_helpers import assert_same_series
 
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.checkpoint import (
+from sph.cli import main
+from sph.driver import RunInterrupted, Simulation
+from sph.io.checkpoint import (
     CheckpointError,
     CheckpointMismatch,
     NoCheckpoint,
@@ -39,10 +42,8 @@ from sph.checkpoint import (
     resume_or_start,
     write_checkpoint,
 )
-from sph.cli import main
-from sph.config import ConfigError, apply_overrides, build_case
-from sph.output import OutputWriteError, read_dataset
-from sph.solver import RunInterrupted, Simulation
+from sph.io.output import OutputWriteError, read_dataset
+from sph.schema import ConfigError, apply_overrides
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -153,7 +154,7 @@ def test_checkpoint_round_trip_restores_every_state(tmp_path):
         for key in sa:
             assert np.array_equal(sa[key], sb[key]), key
     for attr in ("t", "step", "dt", "volume0", "n_fluid", "next_output", "next_vtk",
-                 "next_checkpoint", "wall_seconds", "_warned_c0"):
+                 "next_checkpoint", "wall_seconds", "warned_c0"):
         assert getattr(fresh, attr) == getattr(sim, attr), attr
     assert fresh.record.time == sim.record.time
     assert_same_series(fresh.dataset(), sim.dataset())
@@ -238,7 +239,7 @@ def test_damaged_checkpoint_is_skipped_for_the_previous_one(tmp_path, caplog, da
     with pytest.raises(CheckpointError) as info:
         load_checkpoint(newest)
     assert str(newest) in str(info.value)
-    with caplog.at_level(logging.WARNING, logger="sph.checkpoint"):
+    with caplog.at_level(logging.WARNING, logger="sph.io.checkpoint"):
         sim = Simulation(_cfg("still_water"))
         assert resume_or_start(sim, ckpt) == older
     assert any(str(newest) in r.getMessage() and "skipping" in r.getMessage()
@@ -254,7 +255,7 @@ def test_no_valid_checkpoint_starts_fresh_or_refuses(tmp_path, caplog):
     assert find_checkpoint(ckpt) is None
     with pytest.raises(NoCheckpoint, match="no valid checkpoint"):
         resume_or_start(Simulation(_cfg("still_water")), ckpt, "resume")
-    with caplog.at_level(logging.WARNING, logger="sph.checkpoint"):
+    with caplog.at_level(logging.WARNING, logger="sph.io.checkpoint"):
         sim = Simulation(_cfg("still_water"))
         assert resume_or_start(sim, ckpt) is None
     assert sim.step == 0 and sim.t == 0.0

@@ -10,8 +10,8 @@ import pytest
 import xarray as xr
 import yaml
 
+from sph.cases import load_case
 from sph.cli import main
-from sph.config import load_case
 
 CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
               "floating_box", "ship_decay", "damaged_ship"]
@@ -289,7 +289,7 @@ def test_progress_bar_redraws_rarely_into_a_log(monkeypatch, tty, fewest, most):
 
     import tqdm.std
 
-    from sph.solver import _progress_bar
+    from sph.driver import _progress_bar
 
     clock = _FakeClock()
     monkeypatch.setattr(tqdm.std, "time", clock)

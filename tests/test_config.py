@@ -9,18 +9,10 @@ import math
 import pytest
 import yaml
 
-from sph.cases import CASES
+from sph.cases import CASES, build_case, load_case
 from sph.cases.base import example_text, load_defaults
-from sph.config import (
-    CaseConfig,
-    ConfigError,
-    Run,
-    apply_overrides,
-    build,
-    build_case,
-    load_case,
-    parse_override,
-)
+from sph.engine.config import CaseConfig, Run
+from sph.schema import ConfigError, apply_overrides, build, parse_override
 
 RANGE_MARKERS = ("in (", "in [", "one of")
 

@@ -1,5 +1,5 @@
 """Property-based tests of the case-file validation: random invalid configurations of every
-built-in case are refused with a :class:`~sph.config.ConfigError` that names the key (or,
+built-in case are refused with a :class:`~sph.schema.ConfigError` that names the key (or,
 for a file that is not readable YAML at all, the file), never with another exception.
 
 The kinds of invalid input are listed in ``config_fuzz.kinds`` and ``config_fuzz.case_kinds``

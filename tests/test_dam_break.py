@@ -14,7 +14,7 @@ x = L + 2 sqrt(g H) t.
 import numpy as np
 from physics_helpers import require_validation_data, run_builtin
 
-from sph.analysis import koshizuka_front, ritter_front
+from sph.study.analysis import koshizuka_front, ritter_front
 
 
 def test_dam_break_front_against_experiment_and_ritter_bound():

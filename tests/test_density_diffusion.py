@@ -1,5 +1,5 @@
 """The hydrostatic form of the delta-SPH diffusive term (``numerics.density_filter: ddt``,
-:func:`sph.fluid.interact`; Fourtakas et al. 2019).
+:func:`sph.engine.fluid.interact`; Fourtakas et al. 2019).
 
 A block of fluid at rest on a square lattice under gravity. The term must (1) vanish for the
 hydrostatic density field, so that a tank at rest stays at rest (the plain Molteni-Colagrossi
@@ -13,8 +13,8 @@ import math
 import numpy as np
 from physics_helpers import fluid_pair_loop, sort_by_cells
 
-from sph.kernels import kernel_params
-from sph.neighbours import CellGrid
+from sph.engine.kernels import kernel_params
+from sph.engine.neighbours import CellGrid
 
 DX = 0.1
 RHO0 = 1000.0

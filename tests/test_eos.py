@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from sph.eos import fluid_pressures, hydrostatic_density, tait_density, tait_pressure
-from sph.particles import FLUID, WALL
+from sph.engine.eos import fluid_pressures, hydrostatic_density, tait_density, tait_pressure
+from sph.engine.particles import FLUID, WALL
 
 RHO0 = 1000.0
 G = 9.81

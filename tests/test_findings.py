@@ -1,4 +1,4 @@
-"""Tests of the paper's findings measured on synthetic sweep datasets (sph.findings)."""
+"""Tests of the paper's findings measured on synthetic sweep datasets (sph.study.findings)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sph import findings, study
+from sph.study import findings
+from sph.study import sweeps as study
 
 T = 2 * math.pi
 T1 = 3.18 * T

@@ -14,7 +14,7 @@ run under-predicts the drift.
 import pytest
 from physics_helpers import require_validation_data, run_builtin
 
-from sph.validation import floating_box_errors, hadzic_series
+from sph.study.validation import floating_box_errors, hadzic_series
 
 pytestmark = pytest.mark.slow
 

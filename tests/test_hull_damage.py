@@ -7,9 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from sph.config import ConfigError, build_case
-from sph.damage import OP_SIZE, keep_sides, orifice_rate, passable, wall_hidden
-from sph.hull import (
+from sph.bodies.damage import orifice_rate
+from sph.bodies.hull import (
     HullConfig,
     cabin_area,
     flooded_draught,
@@ -17,14 +16,16 @@ from sph.hull import (
     hydrostatics,
     mid_shape,
     opening_bottom,
-    sdf,
     shape,
     shell_particles,
     submerged,
 )
-from sph.kernels import kernel_params
-from sph.probes import surface_heights
-from sph.walls import fixed_kinematics
+from sph.cases import build_case
+from sph.engine.kernels import kernel_params
+from sph.engine.opening import OP_SIZE, keep_sides, passable, sdf, wall_hidden
+from sph.engine.probes import surface_heights
+from sph.engine.walls import fixed_kinematics
+from sph.schema import ConfigError
 
 HULL = HullConfig()
 
@@ -292,8 +293,9 @@ def test_quick_reach_test_changes_no_line_of_sight_answer():
     hull that is moved and heeled, and decide most pairs near the hull by itself."""
     from types import SimpleNamespace
 
+    from sph.bodies.damage import DamageOpening
     from sph.cases.ship import _opening_circle
-    from sph.damage import DamageOpening, crosses_opening
+    from sph.engine.opening import crosses_opening
 
     reach = 2.0
     z1 = 2.1

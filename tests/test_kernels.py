@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from sph.kernels import (
+from sph.engine.kernels import (
     DEFAULT_H_FACTOR,
     GAUSSIAN,
     KERNELS,
@@ -205,9 +205,9 @@ def test_lattice_gradient_of_linear_field(name, hf, q_support):
 
 
 def test_table_exponential_matches_the_library_one():
-    """The Gaussian's exponential (:func:`sph.kernels.exp_neg`) over its whole support,
+    """The Gaussian's exponential (:func:`sph.engine.kernels.exp_neg`) over its whole support,
     table nodes and points between them, to a relative 1e-12."""
-    from sph.kernels import exp_neg
+    from sph.engine.kernels import exp_neg
 
     s = np.concatenate([np.linspace(0.0, 9.0, 20001), np.arange(0, 577) / 64.0,
                         np.random.default_rng(1).uniform(0.0, 9.0, 5000)])

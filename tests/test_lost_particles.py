@@ -6,9 +6,11 @@ import logging
 import numpy as np
 import pytest
 
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.config import apply_overrides, build_case
-from sph.solver import Simulation, SimulationError
+from sph.driver import Simulation
+from sph.engine.stepper import SimulationError
+from sph.schema import apply_overrides
 
 SMALL = ["numerics.dx=0.1", "geometry.tank_length=1.0", "geometry.depth=0.5",
          "geometry.tank_height=0.8", "run.t_end=0.05", "run.output_interval=0.01"]
@@ -33,7 +35,7 @@ def test_escaped_particle_is_removed_counted_and_reported(caplog):
     sim = _sim(["run.max_lost_fraction=0.05"])  # 50 fluid particles: 2 may go
     n0 = int(np.sum(sim.parts.kind == 0))
     gone = _throw_out(sim)
-    with caplog.at_level(logging.WARNING, logger="sph.solver"):
+    with caplog.at_level(logging.WARNING, logger="sph.engine.stepper"):
         sim.evaluate()
     assert sim.n_lost == 1 and int(np.sum(sim.parts.kind == 0)) == n0 - 1
     assert not np.isin(gone, sim.parts.pid).any()

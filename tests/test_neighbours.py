@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sph.neighbours import CellGrid, neighbour_count
-from sph.particles import FLOAT_FIELDS, INT_FIELDS, WALL, Particles
+from sph.engine.neighbours import CellGrid, neighbour_count
+from sph.engine.particles import FLOAT_FIELDS, INT_FIELDS, WALL, Particles
 
 # (xmin, xmax, zmin, zmax, cell): a binary-exact grid and two with inexact decimals
 GRIDS = [
@@ -216,7 +216,7 @@ def test_outside_particles_are_counted():
 _NONFINITE_SCRIPT = textwrap.dedent("""
     import sys
     import numpy as np
-    from sph.neighbours import CellGrid
+    from sph.engine.neighbours import CellGrid
 
     bx, bz = float(sys.argv[1]), float(sys.argv[2])
     rng = np.random.default_rng(3)

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sph import output
-from sph.output import (
+from sph.io import output
+from sph.io.output import (
     OutputWriteError,
     VTKWriter,
     build_dataset,

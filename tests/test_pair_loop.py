@@ -1,4 +1,4 @@
-"""The pair loop (:func:`sph.fluid.interact`) against a brute-force evaluation of the same sums.
+"""The pair loop (:func:`sph.engine.fluid.interact`) against a brute-force evaluation of the same sums.
 
 ``interact`` finds each fluid particle's neighbours through the cell list. The reference
 here visits, for every fluid particle, every other particle of the set (no cells), and sums
@@ -16,14 +16,15 @@ equal and opposite, so they leave the fluid's momentum unchanged.
 import numpy as np
 import pytest
 
+from sph.cases import build_case
 from sph.cases.base import load_defaults
-from sph.config import apply_overrides, build_case
-from sph.damage import passable, wall_hidden
-from sph.fluid import interact
-from sph.kernels import f_r2, w_given_f, w_r2
-from sph.neighbours import CellGrid
-from sph.shifting import PACKED, PACKED_RAMP, R_ANTI, SURFACE_DIVR, shift_params
-from sph.solver import Simulation
+from sph.driver import Simulation
+from sph.engine.fluid import interact
+from sph.engine.kernels import f_r2, w_given_f, w_r2
+from sph.engine.neighbours import CellGrid
+from sph.engine.opening import passable, wall_hidden
+from sph.engine.shifting import PACKED, PACKED_RAMP, R_ANTI, SURFACE_DIVR, shift_params
+from sph.schema import apply_overrides
 
 RTOL = 1e-10
 

@@ -1,4 +1,4 @@
-"""Particle shifting (:mod:`sph.shifting`): packed particles are spread, regular ones and the
+"""Particle shifting (:mod:`sph.engine.shifting`): packed particles are spread, regular ones and the
 free surface are left alone.
 
 A block of fluid on a square lattice (spacing dx) with a packed patch in its middle (extra
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from physics_helpers import fluid_pair_loop, sort_by_cells
 
-from sph.kernels import kernel_params, w_r2
-from sph.neighbours import CellGrid
-from sph.shifting import PACKED, apply_shift, shift_params, shifting_coefficient
+from sph.engine.kernels import kernel_params, w_r2
+from sph.engine.neighbours import CellGrid
+from sph.engine.shifting import PACKED, apply_shift, shift_params, shifting_coefficient
 
 DX = 0.1
 RHO0 = 1000.0
@@ -106,7 +106,7 @@ def test_shifting_coefficient_scales_with_h_squared():
 
 def test_kernel_value_from_its_gradient_factor():
     """The shift's kernel values come from the momentum equation's gradient factor."""
-    from sph.kernels import f_r2, w_given_f
+    from sph.engine.kernels import f_r2, w_given_f
     for name in ("gaussian", "wendland"):
         kp = kernel_params(name, 1.3 * DX)
         for r2 in np.linspace(0.0, kp[3], 50, endpoint=False):

@@ -10,20 +10,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sph.analysis import oscillation_frequency
+from sph.bodies.damage import orifice_rate
+from sph.bodies.hull import HullConfig, cabin_area, flooded_equilibrium, mid_shape, opening_bottom
+from sph.cases import build_case
 from sph.cases.base import load_defaults
 from sph.cases.ship import _to_keel
-from sph.config import apply_overrides, build_case
-from sph.damage import orifice_rate
-from sph.hull import (
-    HullConfig,
-    cabin_area,
-    flooded_equilibrium,
-    mid_shape,
-    opening_bottom,
-    sdf_many,
-)
-from sph.solver import Simulation
+from sph.driver import Simulation
+from sph.engine.opening import sdf_many
+from sph.schema import apply_overrides
+from sph.study.analysis import oscillation_frequency
 from tests.physics_helpers import run_builtin
 
 DX = 0.8
@@ -138,7 +133,7 @@ def test_early_inflow_through_the_opening_is_of_the_orifice_order():
 @pytest.mark.slow
 def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
     """Flooding to equilibrium: the mean heave over the last 20 s agrees within 3 % with the
-    lost-buoyancy equilibrium of the strip model (:func:`sph.hull.flooded_equilibrium`: each
+    lost-buoyancy equilibrium of the strip model (:func:`sph.bodies.hull.flooded_equilibrium`: each
     segment in its own 70-m tank, whose level changes as the cabin takes in water), the ship
     stays upright (a flooded symmetric cabin gives no heeling moment) and the flood volume
     is the cabin's area below the damaged tank's new level. Once the cabin has filled, ship

@@ -14,8 +14,8 @@ import math
 import pytest
 from physics_helpers import run_builtin
 
-from sph.analysis import artificial_viscosity_nu, oscillation_frequency, viscous_wave_damping
 from sph.cases.sloshing import linear_frequency
+from sph.study.analysis import artificial_viscosity_nu, oscillation_frequency, viscous_wave_damping
 
 
 @pytest.mark.parametrize("fill", [0.25, 0.5, 0.75])

@@ -1,4 +1,4 @@
-"""Tests of the sweep configuration, case files and sweep datasets (sph.study)."""
+"""Tests of the sweep configuration, case files and sweep datasets (sph.study.sweeps)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import yaml
 
-from sph import study
-from sph.config import ConfigError
-from sph.output import build_dataset, write_netcdf_atomic
+from sph.io.output import build_dataset, write_netcdf_atomic
+from sph.schema import ConfigError
+from sph.study import sweeps as study
 
 ROOT = Path(__file__).resolve().parents[1]
 

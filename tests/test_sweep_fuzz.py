@@ -1,4 +1,4 @@
-"""Property-based tests of the sweep schema (``sph.study.load_sweep``).
+"""Property-based tests of the sweep schema (``sph.study.sweeps.load_sweep``).
 
 Each kind of invalid sweep is a small mutation of the default configuration
 (``config/config.yaml`` with an inline case table); hypothesis draws the mutation's values.
@@ -18,8 +18,8 @@ hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from sph.config import ConfigError  # noqa: E402
-from sph.study import load_sweep  # noqa: E402
+from sph.schema import ConfigError  # noqa: E402
+from sph.study.sweeps import load_sweep  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 ROW = {"case": "c1", "opening": 0.4, "side": "back", "fill": 0.0}

@@ -1,4 +1,4 @@
-"""Comparison metrics of a simulated series with a measured one (:mod:`sph.validation`):
+"""Comparison metrics of a simulated series with a measured one (:mod:`sph.study.validation`):
 amplitude ratio, lag and correlation recover known values from synthetic signals, on the
 irregular sampling of a digitised record."""
 
@@ -8,12 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sph.validation import (
-    HADZIC_MAP,
-    dominant_period,
-    floating_box_errors,
-    series_errors,
-)
+from sph.study.validation import HADZIC_MAP, dominant_period, floating_box_errors, series_errors
 
 OMEGA = 2.0 * math.pi / 0.8  # a wave group's dominant period, 0.8 s
 

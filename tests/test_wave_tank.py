@@ -33,17 +33,18 @@ import numpy as np
 import pytest
 from physics_helpers import run_builtin
 
-from sph.analysis import (
+from sph.bodies.wavemaker import flap_wave_amplitude, group_velocity
+from sph.cases import build_case
+from sph.cases.base import load_defaults
+from sph.schema import ConfigError, apply_overrides
+from sph.study.analysis import (
     flap_wave_record,
     harmonic_fit,
     reflection_coefficient,
     viscous_wave_damping,
     wave_statistics,
 )
-from sph.cases.base import load_defaults
-from sph.config import ConfigError, apply_overrides, build_case
-from sph.validation import wave_separation
-from sph.wavemaker import flap_wave_amplitude, group_velocity
+from sph.study.validation import wave_separation
 
 OMEGA, K = 1.0, 0.10237595312395345
 

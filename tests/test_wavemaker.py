@@ -6,10 +6,7 @@ import numpy as np
 import pytest
 from physics_helpers import require_validation_data
 
-from sph.config import ConfigError
-from sph.particles import WALL
-from sph.walls import fixed_kinematics, place_walls
-from sph.wavemaker import (
+from sph.bodies.wavemaker import (
     FlapConfig,
     FlapMotion,
     flap_height_to_stroke,
@@ -19,6 +16,9 @@ from sph.wavemaker import (
     load_flap_file,
     wavenumber,
 )
+from sph.engine.particles import WALL
+from sph.engine.walls import fixed_kinematics, place_walls
+from sph.schema import ConfigError
 
 
 def test_paper_tank_values():

@@ -24,9 +24,9 @@ import xarray as xr
 import yaml
 from physics_helpers import assert_same_series
 
-from sph.checkpoint import checkpoint_files
 from sph.cli import main
-from sph.output import read_dataset
+from sph.io.checkpoint import checkpoint_files
+from sph.io.output import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 N_TABLE_ONE = 8

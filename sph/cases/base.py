@@ -10,11 +10,12 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ..config import CaseConfig, ConfigError
-from ..eos import hydrostatic_density
-from ..geometry import lattice
-from ..kernels import KERNELS, SUPPORT
-from ..particles import Particles
+from sph.cases.geometry import lattice
+from sph.engine.config import CaseConfig
+from sph.engine.eos import hydrostatic_density
+from sph.engine.particles import Particles
+from sph.engine.scales import Scales
+from sph.schema import ConfigError
 
 
 @dataclass
@@ -31,18 +32,18 @@ class CaseSetup:
         Reference depth ``H`` (m) for the speed of sound ``c0 = c_factor sqrt(g H)``.
     motions : list
         Prescribed motions of the wall groups 1, 2, ... (group 0 is the fixed tank); each
-        has ``kinematics(t) -> array of 9`` (see :mod:`sph.walls`).
+        has ``kinematics(t) -> array of 9`` (see :mod:`sph.engine.walls`).
     diagnostics : dict
         Extra time series: name (registered in ``variables.yaml``) -> ``f(particles, t)``.
     attrs : dict
         Case parameters written as global attributes of the output.
     absorber : array
-        Damping zone parameters (:func:`sph.absorber.absorber_params`); zeros = none.
+        Damping zone parameters (:func:`sph.engine.absorber.absorber_params`); zeros = none.
     still_level : float or None
         Height of the still free surface (probe elevations are relative to it); ``depth``
         if None.
     bodies : list
-        Rigid bodies moving under fluid forces (:class:`sph.bodies.RigidBody`); their wall
+        Rigid bodies moving under fluid forces (:class:`sph.bodies.rigid.RigidBody`); their wall
         groups' entries in ``motions`` are the bodies themselves or their segment views.
     events : list
         Objects with ``apply(sim)`` called before every evaluation (e.g. a damage opening),
@@ -52,7 +53,7 @@ class CaseSetup:
         reference height (m))``; appended to ``surface_height`` and ``probe_elevation``
         (height minus reference).
     opening : DamageOpening or None
-        The damage opening (:class:`sph.damage.DamageOpening`), also listed in ``events``.
+        The damage opening (:class:`sph.bodies.damage.DamageOpening`), also listed in ``events``.
     probe_comp : int
         Compartment of the fluid that the earth-fixed surface probes see (-1: all fluid).
     force_scale : array or None
@@ -87,15 +88,10 @@ def example_text(name: str) -> str:
     return resources.files("sph.cases").joinpath(f"{name}.yaml").read_text()
 
 
-def support(cfg: CaseConfig) -> float:
-    """Kernel support radius (m)."""
-    return SUPPORT[KERNELS[cfg.numerics.kernel]] * cfg.numerics.h
-
-
-def b_coef(cfg: CaseConfig, depth: float) -> tuple[float, float]:
-    """Speed of sound and the Tait coefficient ``c0^2 rho0 / gamma``."""
-    c0 = cfg.numerics.c_factor * np.sqrt(cfg.fluid.gravity * depth)
-    return c0, c0 * c0 * cfg.fluid.rho0 / cfg.fluid.gamma
+def scales(cfg: CaseConfig, depth: float | None = None) -> Scales:
+    """dx, h, kernel support, c0 and B of a case (:class:`sph.engine.scales.Scales`; c0
+    and B need the reference depth)."""
+    return Scales.of(cfg.numerics, cfg.fluid, depth)
 
 
 def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
@@ -103,8 +99,8 @@ def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,
     """Particles with hydrostatic initial density below the still level ``surface_z``.
 
     Fluid masses are ``rho_i dx^2`` (or ``rho_i fluid_volume``); wall masses are updated with
-    the wall density (their volume stays ``dx^2``, see :func:`sph.walls.wall_pressure`)."""
-    _, b = b_coef(cfg, depth)
+    the wall density (their volume stays ``dx^2``, see :func:`sph.engine.walls.wall_pressure`)."""
+    b = scales(cfg, depth).b
     rho = hydrostatic_density(np.maximum(surface_z - fluid_xz[:, 1], 0.0), cfg.fluid.rho0, b,
                               cfg.fluid.gamma, cfg.fluid.gravity)
     # each particle carries the mass of its lattice cell at its initial density, so that the

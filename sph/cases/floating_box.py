@@ -14,12 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..absorber import AbsorberConfig, absorber_params
-from ..bodies import DofConfig, RigidBody
-from ..config import CaseConfig, ConfigError, spec
-from ..geometry import fit_cells, n_wall_layers
-from ..wavemaker import FlapConfig, FlapMotion, wavenumber
-from .base import (
+from sph.bodies.rigid import DofConfig, RigidBody
+from sph.bodies.wavemaker import FlapConfig, FlapMotion, wavenumber
+from sph.cases.base import (
     CaseSetup,
     check_absorber_fits,
     check_probes_inside,
@@ -27,8 +24,12 @@ from .base import (
     load_defaults,
     make_particles,
     require_resolved,
-    support,
+    scales,
 )
+from sph.cases.geometry import fit_cells, n_wall_layers
+from sph.engine.absorber import AbsorberConfig, absorber_params
+from sph.engine.config import CaseConfig
+from sph.schema import ConfigError, spec
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,7 @@ def check(cfg: CaseConfig) -> None:
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     rho0 = cfg.fluid.rho0
-    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
     t = layers * dx
     draught = g.box_density / rho0 * g.box_height
     bottom = g.depth - draught + g.heave_offset

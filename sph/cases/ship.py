@@ -25,35 +25,35 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..absorber import AbsorberConfig, absorber_params
-from ..bodies import DofConfig, RigidBody, Shifted
-from ..config import CaseConfig, ConfigError, spec
-from ..damage import OP_SIZE, DamageOpening, HullGuard, fluid_volume
-from ..geometry import fit_cells, n_wall_layers
-from ..hull import (
+from sph.bodies.damage import DamageOpening, HullGuard, fluid_volume
+from sph.bodies.hull import (
     HullConfig,
     cabin_area,
     hydrostatics,
     mid_shape,
     opening_bottom,
     outline_points,
-    sdf_many,
     shape,
     shell_particles,
     submerged,
 )
-from ..kernels import kernel_params
-from ..probes import surface_heights
-from ..wavemaker import FlapConfig, FlapMotion, wavenumber
-from .base import (
+from sph.bodies.rigid import DofConfig, RigidBody, Shifted
+from sph.bodies.wavemaker import FlapConfig, FlapMotion, flap_wave_amplitude, wavenumber
+from sph.cases.base import (
     CaseSetup,
     check_absorber_fits,
     check_probes_inside,
     flap_tank_lattice,
     load_defaults,
     make_particles,
-    support,
+    scales,
 )
+from sph.cases.geometry import fit_cells, n_wall_layers
+from sph.engine.absorber import AbsorberConfig, absorber_params
+from sph.engine.config import CaseConfig
+from sph.engine.opening import pack_opening, sdf_many, set_circle
+from sph.engine.probes import surface_heights
+from sph.schema import ConfigError, spec
 
 log = logging.getLogger(__name__)
 
@@ -219,7 +219,7 @@ def _opening_pids(hull, shell_uw, side, z0, z1, pids):
 def _opening_circle(hull, side, z0, z1, reach):
     """Centre (hull frame: ``u``, ``w - kg``) and squared reach of a circle holding the
     opening's part of the mid-surface, widened by ``reach`` (the kernel support) and a
-    margin for the bisection's tolerance (:func:`sph.damage.crosses_opening`)."""
+    margin for the bisection's tolerance (:func:`sph.engine.opening.crosses_opening`)."""
     spacing = 0.01 * hull.plating + 1e-3
     mid = outline_points(mid_shape(hull), spacing)
     span = mid[(side * mid[:, 0] > 0.0) & (mid[:, 1] >= z0) & (mid[:, 1] <= z1)]
@@ -292,11 +292,11 @@ def _cargo_columns(hull, fill, dx, inner):
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     hull, rho0 = g.hull, cfg.fluid.rho0
-    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
     t = layers * dx
     segs = _segments(g)
     n_seg = len(segs)
-    pitch = g.tank_length + 2 * t + support(cfg) + 2 * dx
+    pitch = g.tank_length + 2 * t + scales(cfg).support + 2 * dx
     flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)
     omega = g.wavemaker.omega
     period = 2.0 * math.pi / omega
@@ -382,18 +382,14 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     d_seg = next((s for s, seg in enumerate(segs) if seg["damaged"]), None)
     hull_params = []
     for s in range(n_seg):
-        op = np.zeros(OP_SIZE)
-        op[1:7] = (2 * s, 2 * s + 1, 1 + n_seg + s, side, z0, z1)
-        op[7:12] = mid_shape(hull)
-        op[12] = hull.kg
-        op[13] = support(cfg)
-        op[14] = 0.5 * dx
-        hull_params.append(op)
+        hull_params.append(pack_opening(
+            sea=2 * s, cabin=2 * s + 1, group=1 + n_seg + s, side=side, w_low=z0, w_high=z1,
+            shape=mid_shape(hull), kg=hull.kg, reach=scales(cfg).support, margin=0.5 * dx))
     if d_seg is not None:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
         in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
-        hull_params[d_seg][15:18] = _opening_circle(hull, side, z0, z1, support(cfg))
+        set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, scales(cfg).support))
         opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
@@ -409,7 +405,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
 
         diagnostics["flood_volume"] = flood_volume
         diagnostics["flood_ratio"] = lambda p, time: flood_volume(p, time) / v_cabin
-    kp = kernel_params(cfg.numerics.kernel, cfg.numerics.h)
+    kp = scales(cfg).kp
     u_probe = side * (0.5 * hull.breadth - hull.plating - hull.breadth / 160.0)
 
     def cabin_probe(s):
@@ -457,8 +453,6 @@ def setup(cfg: CaseConfig) -> CaseSetup:
 
 
 def _amplitude(flap, g, cfg) -> float:
-    from ..wavemaker import flap_wave_amplitude
-
     if g.wavemaker.file:
         return float("nan")
     return flap_wave_amplitude(flap.theta0, g.wavemaker.omega, g.depth, cfg.fluid.gravity)

@@ -17,7 +17,7 @@ The liquid starts in one of two ways (``geometry.init``):
 
 Linear theory: :math:`\omega^2 = g k \tanh(k h)`. The fluid's centre of mass
 (``centre_of_mass_x``) oscillates at the first-mode frequency; see
-:func:`sph.analysis.oscillation_frequency`.
+:func:`sph.study.analysis.oscillation_frequency`.
 """
 
 from __future__ import annotations
@@ -27,17 +27,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import CaseConfig, ConfigError, spec
-from ..geometry import RoundedTank, n_wall_layers, tank_particles
-from ..particles import FLUID
-from .base import (
+from sph.cases.base import (
     CaseSetup,
     check_probes_inside,
     load_defaults,
     make_particles,
     require_resolved,
-    support,
+    scales,
 )
+from sph.cases.geometry import RoundedTank, n_wall_layers, tank_particles
+from sph.engine.config import CaseConfig
+from sph.engine.particles import FLUID
+from sph.schema import ConfigError, spec
 
 
 def linear_frequency(length: float, depth: float, g: float = 9.81, mode: int = 1) -> float:
@@ -55,7 +56,7 @@ def _centre_of_mass(p, axis):
 def _sloshing_setup(cfg: CaseConfig, tank: RoundedTank, height: float, fill: float,
                     amplitude: float, init: str) -> CaseSetup:
     dx = cfg.numerics.dx
-    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
     depth = fill * height
     width = tank.width
     wall_top = height

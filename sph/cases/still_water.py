@@ -4,16 +4,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..config import CaseConfig, ConfigError, spec
-from ..geometry import RoundedTank, n_wall_layers, tank_particles
-from .base import (
+from sph.cases.base import (
     CaseSetup,
     check_probes_inside,
     load_defaults,
     make_particles,
     require_resolved,
-    support,
+    scales,
 )
+from sph.cases.geometry import RoundedTank, n_wall_layers, tank_particles
+from sph.engine.config import CaseConfig
+from sph.schema import ConfigError, spec
 
 
 @dataclass(frozen=True)
@@ -43,7 +44,7 @@ def check(cfg: CaseConfig) -> None:
 
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
     tank = RoundedTank(0.0, 0.0, g.tank_length, g.tank_height)
     fluid, wall = tank_particles(tank, dx, layers, g.tank_height, g.depth)
     parts = make_particles(cfg, fluid, wall, g.depth, g.depth)

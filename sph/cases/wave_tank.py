@@ -12,11 +12,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..absorber import AbsorberConfig, absorber_params
-from ..config import CaseConfig, ConfigError, spec
-from ..geometry import n_wall_layers
-from ..wavemaker import FlapConfig, FlapMotion, flap_wave_amplitude, wavenumber
-from .base import (
+from sph.bodies.wavemaker import FlapConfig, FlapMotion, flap_wave_amplitude, wavenumber
+from sph.cases.base import (
     CaseSetup,
     check_absorber_fits,
     check_probes_inside,
@@ -24,8 +21,12 @@ from .base import (
     load_defaults,
     make_particles,
     require_resolved,
-    support,
+    scales,
 )
+from sph.cases.geometry import n_wall_layers
+from sph.engine.absorber import AbsorberConfig, absorber_params
+from sph.engine.config import CaseConfig
+from sph.schema import ConfigError, spec
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,7 @@ def theory(cfg: CaseConfig) -> dict:
 
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = n_wall_layers(support(cfg), dx, cfg.numerics.wall_layers)
+    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
     t = layers * dx
     pts, inside, wall_mask, body = flap_tank_lattice(dx, layers, g.tank_length, g.tank_height)
     fluid_mask = inside & (pts[:, 1] < g.depth)

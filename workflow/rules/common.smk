@@ -1,6 +1,6 @@
 # Configuration, paths and helpers shared by the rules.
 #
-# The sweep configuration is checked here, before any job: first by sph.study (every key,
+# The sweep configuration is checked here, before any job: first by sph.study.sweeps (every key,
 # with messages that name the key and the allowed range), then by the schemas in
 # config/schema/ (snakemake's validate), and finally every run's case file is built by the
 # engine's own configuration checks (an opening above the waterline, a dx too coarse for the
@@ -14,9 +14,9 @@ import pandas as pd
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from sph import study
-from sph.analysis import validation_data_dir
-from sph.config import ConfigError
+from sph.study import sweeps as study
+from sph.study.analysis import validation_data_dir
+from sph.schema import ConfigError
 
 try:
     SWEEP_CFG = study.load_sweep(config)

@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import koshizuka_front, ritter_front  # noqa: E402
+from sph.study.analysis import koshizuka_front, ritter_front  # noqa: E402
 
 
 def main(out: str, runs: list[str]) -> None:

@@ -14,8 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from sph.output import read_dataset  # noqa: E402
-from sph.validation import TABLE_II_HEAVE, TABLE_II_ROLL, frequency  # noqa: E402
+from sph.io.output import read_dataset  # noqa: E402
+from sph.study.validation import TABLE_II_HEAVE, TABLE_II_ROLL, frequency  # noqa: E402
 
 
 def main(out: str, runs: list[str]) -> None:

@@ -4,7 +4,7 @@ experiment (analogue of Cao et al. 2019, Figs. 3 and 5).
     python workflow/scripts/fig_floating_box.py OUT.png RUN.nc [RUN2.nc ...]
 
 Each run is a ``floating_box`` output driven by the experiment's flap signal; the
-experimental series come from ``shared/validation-data/hadzic2005`` (or
+experimental series come from ``data/validation/hadzic2005`` (or
 ``$SPH_VALIDATION_DATA``).
 """
 
@@ -17,8 +17,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from sph.output import read_dataset  # noqa: E402
-from sph.validation import (  # noqa: E402
+from sph.io.output import read_dataset  # noqa: E402
+from sph.study.validation import (  # noqa: E402
     HADZIC_MAP,
     floating_box_errors,
     hadzic_series,

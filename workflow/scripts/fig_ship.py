@@ -19,8 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from sph.findings import case_label, fraction_text  # noqa: E402
-from sph.output import read_dataset  # noqa: E402
+from sph.io.output import read_dataset  # noqa: E402
+from sph.study.findings import case_label, fraction_text  # noqa: E402
 
 LABELS = {
     "roll": "roll (deg)",

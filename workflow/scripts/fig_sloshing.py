@@ -16,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.validation import frequency  # noqa: E402
+from sph.study.validation import frequency  # noqa: E402
 
 TABLE_II = {0.25: 0.87, 0.5: 1.12, 0.75: 1.26}  # Cao et al. (2019), U-shaped cabin, rad/s
 

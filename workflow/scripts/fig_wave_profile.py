@@ -6,7 +6,7 @@ Each run is a ``wave_tank`` output with several surface probes. For every probe 
 first-harmonic amplitude over the window (40-60 s unless ``--window`` gives another) is
 plotted against x, with two references: linear flap theory decayed at the rate that the
 run's artificial viscosity gives a progressive wave, and the incident-plus-reflected fit
-of :func:`sph.validation.wave_separation` (the partial standing wave that the absorbing
+of :func:`sph.study.validation.wave_separation` (the partial standing wave that the absorbing
 zone's reflection adds). Probes nearer the flap than 0.6 depths sit in the flap's near
 field and are drawn hollow.
 """
@@ -20,8 +20,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.analysis import harmonic_fit  # noqa: E402
-from sph.validation import (  # noqa: E402
+from sph.study.analysis import harmonic_fit  # noqa: E402
+from sph.study.validation import (  # noqa: E402
     NEAR_FIELD_DEPTHS,
     _run_config,
     probe_positions,

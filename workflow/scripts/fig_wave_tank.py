@@ -4,7 +4,7 @@
 
 Each run is a ``wave_tank`` output (e.g. at dx = 0.4 A, 0.2 A, 0.1 A). The theory curves are
 the linear signalling solution driven by the flap angle the finest run recorded
-(:func:`sph.validation.linear_wave_record`: start-up front, amplitude and phase, nothing
+(:func:`sph.study.validation.linear_wave_record`: start-up front, amplitude and phase, nothing
 fitted), without and with the viscous decay that the finest run's artificial viscosity
 amounts to. Panel titles give the steady amplitude of every run over the grey window
 (40-60 s unless ``--window`` gives another).
@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from sph.validation import linear_wave_record, run_viscosity, steady_wave  # noqa: E402
+from sph.study.validation import linear_wave_record, run_viscosity, steady_wave  # noqa: E402
 
 WINDOW = (40.0, 60.0)
 

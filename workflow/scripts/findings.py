@@ -7,8 +7,8 @@ Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``
 import csv
 import logging
 
-from sph.findings import compute_findings, findings_html, findings_table
-from sph.output import read_dataset
+from sph.io.output import read_dataset
+from sph.study.findings import compute_findings, findings_html, findings_table
 
 
 def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:

@@ -7,8 +7,8 @@ Rule ``gather``: ``snakemake.input.nc`` (one file per case, in the order of
 
 import logging
 
-from sph.output import write_netcdf_atomic
-from sph.study import gather
+from sph.io.output import write_netcdf_atomic
+from sph.study.sweeps import gather
 
 
 def main(paths, cases, attrs, out) -> None:

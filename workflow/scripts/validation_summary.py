@@ -10,8 +10,8 @@ import html
 import logging
 from pathlib import Path
 
-from sph import validation
-from sph.output import read_dataset
+from sph.io.output import read_dataset
+from sph.study import validation
 
 
 def main(inputs: dict, runs: dict, window, data_dir: str, out_csv: str, out_html: str) -> None:

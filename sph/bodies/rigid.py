@@ -1,0 +1,141 @@
+r"""Rigid bodies moving under fluid forces: 3 DOF in 2D (sway, heave, roll).
+
+Cao et al. (2019), Eqs. (9)-(10): the fluid force per unit length on a body is the reaction of
+the fluid--wall pressure terms summed over its wall particles
+(:func:`sph.engine.walls.wall_forces`); with strip theory the total force and moment are the
+per-unit-length values of each segment times the segment's length. A body here carries its
+mass and roll inertia *per unit length* of the simulated strip, so that
+
+.. math:: M\dot{\mathbf{V}} = \mathbf{f} + M\mathbf{g},\qquad I\dot\Omega = m_f,
+
+with :math:`\mathbf{f}, m_f` the force and moment per unit length about the centre of
+gravity. Each DOF can be fixed with a mask. The state is advanced with the same two-level
+Verlet scheme as the fluid (:mod:`sph.engine.integrator`), inside the same step, and the
+accelerations of the last evaluation feed the wall-pressure extrapolation (Eq. 13).
+
+The angle ``theta`` is counter-clockwise in the x-z plane; the output ``roll`` is
+:math:`-\theta` in degrees (positive when the body heels towards +x).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sph.schema import spec
+
+
+@dataclass(frozen=True)
+class DofConfig:
+    """Which motions are free."""
+
+    sway: bool = spec(True, doc="horizontal motion free")
+    heave: bool = spec(True, doc="vertical motion free")
+    roll: bool = spec(True, doc="rotation free")
+
+
+class RigidBody:
+    """State of one rigid body (wall groups moving under fluid forces).
+
+    Parameters
+    ----------
+    mass, inertia : float
+        Mass (kg/m) and roll inertia about the centre of gravity (kg m) per unit length.
+    cog : pair of float
+        Initial centre of gravity (m) in the frame of the first segment.
+    dofs : DofConfig
+        Free motions.
+    gravity : float
+        g (m/s2).
+    segments : sequence of (group, weight, x_offset)
+        The wall groups that carry this body (one per strip segment), the fraction of the
+        body's length each stands for (weights sum to 1: strip theory, Cao et al. Eq. 9) and
+        the x offset of that segment's tank. A single 2-D body: ``[(group, 1.0, 0.0)]``.
+    """
+
+    free = True
+
+    def __init__(self, mass: float, inertia: float, cog, dofs: DofConfig, gravity: float,
+                 segments=((1, 1.0, 0.0),)):
+        self.mass = float(mass)
+        self.inertia = float(inertia)
+        self.g = float(gravity)
+        self.mask = np.array([dofs.sway, dofs.heave, dofs.roll], dtype=np.float64)
+        self.segments = [(int(g), float(w), float(x)) for g, w, x in segments]
+        total = sum(w for _, w, _ in self.segments)
+        if abs(total - 1.0) > 1e-12:
+            raise ValueError(f"segment weights must sum to 1; got {total:g}")
+        self.q0 = np.array([cog[0], cog[1], 0.0])
+        self.q = self.q0.copy()
+        self.v = np.zeros(3)
+        self.v_old = np.zeros(3)
+        self.a = np.zeros(3)
+        self.force = np.zeros(3)  # fluid fx, fz (N/m) and moment (N) about the cog
+        #: force and moment per unit length on each segment (last evaluation)
+        self.segment_force = np.zeros((len(self.segments), 3))
+
+    def segment_motion(self, k: int) -> Shifted:
+        """Kinematics source of segment ``k``'s wall group."""
+        return Shifted(self, self.segments[k][2])
+
+    def kinematics(self, t: float = 0.0) -> np.ndarray:
+        """Row of :data:`sph.engine.walls.KIN_COLUMNS` for the wall particles of this body."""
+        return np.concatenate([self.q, self.v, self.a])
+
+    def collect_forces(self, fx, fz, mom) -> None:
+        """Weighted sum of the per-group forces (arrays indexed by wall group) -> accelerations."""
+        for k, (g, _, _) in enumerate(self.segments):
+            self.segment_force[k] = (fx[g], fz[g], mom[g])
+        w = np.array([s[1] for s in self.segments])
+        total = w @ self.segment_force
+        self.set_forces(*total)
+
+    def set_forces(self, fx: float, fz: float, moment: float) -> None:
+        """Fluid force and moment per unit length -> accelerations (masked)."""
+        self.force[:] = (fx, fz, moment)
+        self.a[:] = self.mask * np.array([fx / self.mass, fz / self.mass - self.g,
+                                          moment / self.inertia])
+
+    def update(self, dt: float, euler: bool) -> None:
+        """Advance with the fluid's Verlet step (see :mod:`sph.engine.integrator`)."""
+        self.q += dt * self.v + 0.5 * dt * dt * self.a
+        new_v = (self.v if euler else self.v_old) + (1.0 if euler else 2.0) * dt * self.a
+        self.v_old[:] = self.v
+        self.v[:] = new_v * self.mask
+
+    def get_state(self) -> dict:
+        """Everything :meth:`update`, :meth:`kinematics` and the output depend on (for
+        checkpoints): position, velocity at both leapfrog levels, the acceleration of the
+        last evaluation (it feeds the wall-pressure extrapolation) and the fluid forces."""
+        return {"q": self.q.copy(), "v": self.v.copy(), "v_old": self.v_old.copy(),
+                "a": self.a.copy(), "force": self.force.copy(),
+                "segment_force": self.segment_force.copy()}
+
+    def set_state(self, state: dict) -> None:
+        for key in ("q", "v", "v_old", "a", "force", "segment_force"):
+            target = getattr(self, key)
+            value = np.asarray(state[key], dtype=np.float64)
+            if value.shape != target.shape:
+                raise ValueError(f"body state {key!r} has shape {value.shape}, expected "
+                                 f"{target.shape}")
+            target[:] = value
+
+    def motions(self) -> dict:
+        """Sway (m), heave (m) and roll (degree, positive towards +x) from the start."""
+        return {"sway": float(self.q[0] - self.q0[0]), "heave": float(self.q[1] - self.q0[1]),
+                "roll": float(-np.degrees(self.q[2]))}
+
+
+class Shifted:
+    """The kinematics of another motion, translated by ``x_offset`` along x (the copy of a
+    body or a flap in another strip segment's tank)."""
+
+    def __init__(self, motion, x_offset: float):
+        self.motion = motion
+        self.x_offset = float(x_offset)
+
+    def kinematics(self, t: float = 0.0) -> np.ndarray:
+        k = np.array(self.motion.kinematics(t), dtype=np.float64)
+        k[0] += self.x_offset
+        return k

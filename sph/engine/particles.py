@@ -1,0 +1,107 @@
+"""Structure-of-arrays particle storage.
+
+All particles of a run (fluid and wall) live in two 2-D arrays, one of floats and one of
+integers, one row per field. Sorting by cell (see :mod:`sph.engine.neighbours`) permutes both arrays
+with one parallel gather, and the numba loops receive the rows as contiguous 1-D views.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import prange
+
+from sph.engine.jit import JIT_PARALLEL, njit
+
+FLUID = 0
+WALL = 1
+
+#: float fields, in row order
+FLOAT_FIELDS = (
+    "x", "z", "vx", "vz", "rho", "p", "m",
+    "vx_old", "vz_old", "rho_old",  # previous level of the leapfrog (Verlet) scheme
+    "ax", "az", "drho",  # time derivatives from the last evaluation
+    "sx", "sz",  # particle shift from the last evaluation (sph.engine.shifting)
+    "bx", "bz",  # wall particles: position in the frame of their body (rest position)
+)
+#: integer fields
+INT_FIELDS = (
+    "kind",  # FLUID or WALL
+    "body",  # wall particles: motion group (0 = fixed tank); fluid: -1
+    "comp",  # compartment: a pair interacts only when compartments match
+    "pid",  # original index, stable across sorting
+)
+_FI = {n: k for k, n in enumerate(FLOAT_FIELDS)}
+_II = {n: k for k, n in enumerate(INT_FIELDS)}
+
+
+class Particles:
+    """All particles of a run.
+
+    Attributes are row views (``parts.x``, ``parts.kind``...) that stay valid until the next
+    :meth:`permute`; re-read them after sorting.
+    """
+
+    def __init__(self, n: int):
+        self.f = np.zeros((len(FLOAT_FIELDS), n), dtype=np.float64)
+        self.i = np.zeros((len(INT_FIELDS), n), dtype=np.int32)
+        self._f_buf = np.empty_like(self.f)
+        self._i_buf = np.empty_like(self.i)
+        self.i[_II["pid"]] = np.arange(n, dtype=np.int32)
+
+    @property
+    def n(self) -> int:
+        return self.f.shape[1]
+
+    def __getattr__(self, name):
+        if name in _FI:
+            return self.f[_FI[name]]
+        if name in _II:
+            return self.i[_II[name]]
+        raise AttributeError(name)
+
+    def permute(self, order: np.ndarray) -> None:
+        """Reorder every field so that particle ``k`` becomes the old ``order[k]``."""
+        _gather(self.f, self._f_buf, order)
+        _gather(self.i, self._i_buf, order)
+        self.f, self._f_buf = self._f_buf, self.f
+        self.i, self._i_buf = self._i_buf, self.i
+
+    def take(self, keep: np.ndarray) -> Particles:
+        """A new set holding the particles where ``keep`` is True (order kept)."""
+        out = Particles.__new__(Particles)
+        out.f = np.ascontiguousarray(self.f[:, keep])
+        out.i = np.ascontiguousarray(self.i[:, keep])
+        out._f_buf = np.empty_like(out.f)
+        out._i_buf = np.empty_like(out.i)
+        return out
+
+    @classmethod
+    def from_arrays(cls, fluid_xz, fluid_rho, mass, wall_xz, wall_body, wall_body_xz,
+                    fluid_comp=None, wall_comp=None) -> Particles:
+        """Build the set from fluid and wall positions (fluid first, then walls)."""
+        nf, nw = len(fluid_xz), len(wall_xz)
+        parts = cls(nf + nw)
+        parts.x[:nf], parts.z[:nf] = fluid_xz[:, 0], fluid_xz[:, 1]
+        parts.x[nf:], parts.z[nf:] = wall_xz[:, 0], wall_xz[:, 1]
+        parts.rho[:nf] = fluid_rho
+        parts.rho_old[:nf] = fluid_rho
+        parts.m[:] = mass
+        parts.kind[nf:] = WALL
+        parts.body[:nf] = -1
+        parts.body[nf:] = wall_body
+        parts.bx[nf:], parts.bz[nf:] = wall_body_xz[:, 0], wall_body_xz[:, 1]
+        if fluid_comp is not None:
+            parts.comp[:nf] = fluid_comp
+        if wall_comp is not None:
+            parts.comp[nf:] = wall_comp
+        return parts
+
+
+@njit(**JIT_PARALLEL)
+def _gather(src, dst, order):
+    nf = src.shape[0]
+    n = src.shape[1]
+    for k in prange(n):
+        o = order[k]
+        for f in range(nf):
+            dst[f, k] = src[f, o]

@@ -1,0 +1,147 @@
+r"""Particle shifting: keeps the particle distribution regular where the flow would cluster it.
+
+Weakly compressible SPH tracks density along particle paths. Where particles come close to
+each other without the continuity equation seeing them approach, they stay packed at the
+reference density and nothing pushes them apart again: a cluster forms whose particles
+carry too little pressure for their number density, and once it drifts into open water it
+sinks through it (its neighbours do not hold it up), reaching the tank floor at speed. Around
+a thin hull this happens where a particle rounds the plating's edge at a damage opening:
+the fluid on the other side of the plating comes into view (:mod:`sph.bodies.damage`) already
+closer than one particle spacing.
+
+The shifting of Sun et al. (2017, delta-plus-SPH; after Lind et al. 2012) moves every fluid
+particle down the gradient of the particle concentration, each step, by
+
+.. math::
+    \delta\mathbf{r}_i = -C\,\mathrm{CFL}\,\mathrm{Ma}\,(2h)^2 \sum_j
+    \left[1 + R\left(\frac{W_{ij}}{W(\Delta x)}\right)^n\right]\nabla_i W_{ij}\,V_j,
+    \qquad R = 0.2,\ n = 4,
+
+with :math:`\mathrm{Ma} = 1/c_{\text{factor}}` (the flow speed the speed of sound was sized
+for) and :math:`C` the config value ``numerics.shifting`` (0 disables it). The sum runs over
+the neighbours the momentum equation sees (same compartment, through an open damage
+opening, wall particles included so that nobody is shifted into a wall). The kernel sum
+that decides whether a particle is packed is taken in the momentum equation's pair loop
+(:func:`sph.engine.fluid.interact`, one multiply-add per pair); only the packed particles, few in
+a regular flow, search their neighbours again for the gradient. Near the free
+surface, where the concentration gradient is that of the missing air, only the part of the
+shift along the surface is kept (Lind et al. 2012): a particle is taken to be at the surface
+when the divergence of the position, :math:`\nabla\cdot\mathbf{r}_i = -\sum_j V_j
+\mathbf{r}_{ij}\cdot\nabla_i W_{ij}` (2 inside the fluid), is below 1.5. Shifting acts only where
+the particles are packed: the shift is scaled by a gate that is zero while the kernel sum
+:math:`\sum_j V_j W_{ij}` is below ``PACKED`` = 1.05 and reaches one 0.1 above it, so that
+the regular flow (kernel sum one inside, less at the surface) is left exactly as the
+unshifted scheme computes it. A shift is limited to a tenth of the particle spacing per
+step. Velocities and densities are not corrected for the shift (first order in
+:math:`\delta r`; the density is re-initialised by the MLS filter).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
+from sph.engine.opening import passable, wall_hidden
+
+#: anti-clustering weight R and exponent n of Sun et al. (2017)
+R_ANTI = 0.2
+#: kernel sum above which a particle counts as packed (shifting starts), and the ramp over
+#: which the shift reaches its full size
+PACKED = 1.05
+PACKED_RAMP = 0.1
+#: divergence of the position below which a particle is treated as a free-surface particle
+SURFACE_DIVR = 1.5
+
+# slots of the packed shifting parameters ``shift`` (:func:`shift_params`)
+SH_COEF = 0  #: shifting coefficient (0: off)
+SH_W_DX = 1  #: kernel value at one particle spacing
+SH_CAP = 2  #: largest shift per step (m)
+SH_SIZE = 3
+
+
+def shifting_coefficient(c: float, cfl: float, c_factor: float, h: float) -> float:
+    r""":math:`C\,\mathrm{CFL}\,\mathrm{Ma}\,(2h)^2` with :math:`\mathrm{Ma} = 1/c_{factor}`."""
+    return c * cfl / c_factor * (2.0 * h) ** 2
+
+
+def shift_params(c: float, cfl: float, c_factor: float, kp, dx: float) -> np.ndarray:
+    """``[coef, W(dx), cap]`` for :func:`sph.engine.fluid.interact` (``coef = 0``: no shifting);
+    ``c`` is ``numerics.shifting``, the cap a tenth of the particle spacing."""
+    shift = np.zeros(SH_SIZE)
+    shift[SH_COEF] = shifting_coefficient(c, cfl, c_factor, kp[KP_H])
+    shift[SH_W_DX] = w_r2(dx * dx, kp)
+    shift[SH_CAP] = 0.1 * dx
+    return shift
+
+
+def shifting_active(shift: np.ndarray) -> bool:
+    return shift[SH_COEF] != 0.0
+
+
+@njit(**JIT)
+def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, op,
+                 kin, shift):
+    r"""Shift of fluid particle ``i`` whose kernel sum :math:`\sum_j V_j W_{ij}` (itself
+    included) is ``shep``; ``shift = [coef, W(dx), cap]``. Zero unless the particle is
+    packed; then the concentration gradient and the divergence of the position are summed
+    over the neighbours the momentum equation sees."""
+    gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
+    if gate == 0.0:
+        return 0.0, 0.0
+    xi = x[i]
+    zi = z[i]
+    ci = comp[i]
+    inv_wdx = 1.0 / shift[SH_W_DX]
+    r2max = kp[KP_R2MAX]
+    gx = 0.0
+    gz = 0.0
+    divr = 0.0
+    c = cell_of[i]
+    for row in (c - ncx, c, c + ncx):
+        for j in range(cell_start[row - 1], cell_start[row + 2]):
+            dx = xi - x[j]
+            dz = zi - z[j]
+            r2 = dx * dx + dz * dz
+            if r2 >= r2max or j == i:
+                continue
+            if kind[j] == 0:
+                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
+                    continue
+            elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                continue
+            vj = m[j] / rho[j]
+            fw = f_r2(r2, kp)
+            q = w_given_f(r2, fw, kp) * inv_wdx
+            q2 = q * q
+            vf = vj * fw
+            a = vf * (1.0 + R_ANTI * q2 * q2)
+            gx += a * dx
+            gz += a * dz
+            divr -= vf * r2
+    coef = shift[SH_COEF]
+    shx = -coef * gate * gx
+    shz = -coef * gate * gz
+    if divr < SURFACE_DIVR:
+        g2 = gx * gx + gz * gz
+        if g2 > 0.0:  # keep the part along the surface (normal ~ concentration gradient)
+            dot = (shx * gx + shz * gz) / g2
+            shx -= dot * gx
+            shz -= dot * gz
+    s = math.sqrt(shx * shx + shz * shz)
+    cap = shift[SH_CAP]
+    if s > cap:
+        shx *= cap / s
+        shz *= cap / s
+    return shx, shz
+
+
+@njit(**JIT_PARALLEL)
+def apply_shift(x, z, sx, sz, kind):
+    for i in prange(x.shape[0]):
+        if kind[i] == 0:
+            x[i] += sx[i]
+            z[i] += sz[i]

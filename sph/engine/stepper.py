@@ -1,0 +1,386 @@
+"""The physics stepper: one case's particles advanced step by step, with run-time checks
+and sampled diagnostics.
+
+Plain Python that drives the numba kernels of the engine. One step:
+
+1. place moving walls at time ``t`` (:func:`sph.engine.walls.place_walls`),
+2. sort particles by cell (:mod:`sph.engine.neighbours`); stop if any left the domain,
+3. pressures: Tait EOS for the fluid, extrapolation for the walls,
+4. derivatives (:func:`sph.engine.fluid.interact`; delta-SPH gradient first if selected),
+5. MLS re-initialisation when due, then the Verlet update (:mod:`sph.engine.integrator`).
+
+The stepper knows nothing of files, signals or schedules: the run driver
+(:class:`sph.driver.Simulation`) loops it, writes its output and checkpoints. Its whole
+state goes in and out through :meth:`Stepper.get_state` and :meth:`Stepper.set_state`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sph.engine.config import CaseConfig
+from sph.engine.eos import fluid_pressures
+from sph.engine.filters import mls_density, renormalised_density_gradient
+from sph.engine.fluid import interact
+from sph.engine.integrator import max_speed_accel, time_step, verlet_update
+from sph.engine.jit import set_threads
+from sph.engine.neighbours import CellGrid
+from sph.engine.opening import no_opening
+from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
+from sph.engine.probes import point_pressures, surface_heights
+from sph.engine.scales import Scales
+from sph.engine.shifting import apply_shift, shift_params, shifting_active
+from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
+
+log = logging.getLogger(__name__)
+
+
+class SimulationError(RuntimeError):
+    """A run that blew up; names the step, the simulated time and the cause."""
+
+    def __init__(self, step: int, t: float, cause: str):
+        self.step, self.t, self.cause = step, t, cause
+        super().__init__(f"simulation stopped at step {step}, t = {t:.6g} s: {cause}")
+
+
+@dataclass
+class Record:
+    """Time series buffers filled at every output sample."""
+
+    time: list = field(default_factory=list)
+    series: dict = field(default_factory=dict)
+    surface: list = field(default_factory=list)
+    pressure: list = field(default_factory=list)
+
+    def add(self, t: float, values: dict, surface, pressure) -> None:
+        self.time.append(t)
+        for k, v in values.items():
+            self.series.setdefault(k, []).append(v)
+        self.surface.append(surface)
+        self.pressure.append(pressure)
+
+    def restore(self, state: dict) -> None:
+        """Take the ``record.*`` entries of a state (:meth:`Stepper.get_state`)."""
+        time = state["record.time"]
+        n = len(time)
+        self.time = time.tolist()
+        self.surface = list(state["record.surface"]) if n else []
+        self.pressure = list(state["record.pressure"]) if n else []
+        self.series = {}
+        for key, value in state.items():
+            if key.startswith("record.series."):
+                name = key[len("record.series."):]
+                self.series[name] = value.tolist() if value.ndim == 1 else list(value)
+
+
+class StateMismatch(ValueError):
+    """A state (:meth:`Stepper.set_state`) that does not fit this stepper."""
+
+
+#: scalar state entries of a stepper: name -> type
+STATE_SCALARS = {"t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
+                 "n_lost": int, "warned_c0": bool}
+
+
+class Stepper:
+    """The physics of one prepared case: evaluate, advance, check, sample.
+
+    Parameters
+    ----------
+    cfg : CaseConfig
+        Validated configuration.
+    setup : CaseSetup
+        Particles and case data (:class:`sph.cases.base.CaseSetup`, built by the case's
+        ``setup``, :func:`sph.cases.setup`).
+    """
+
+    def __init__(self, cfg: CaseConfig, setup):
+        self.cfg = cfg
+        self.threads = set_threads(cfg.numerics.threads)
+        self.setup = setup
+        num, fl = cfg.numerics, cfg.fluid
+        #: dx, h, kernel parameters, support radius, c0 and B, derived once
+        self.scales = Scales.of(num, fl, self.setup.depth)
+        self.h = self.scales.h
+        self.kp = self.scales.kp
+        self.c0, self.b = self.scales.c0, self.scales.b
+        self.parts = self.setup.particles
+        self.grid = CellGrid(*self.setup.bounds, self.scales.support)
+        self.gx, self.gz = 0.0, -fl.gravity
+        self.kin = fixed_kinematics(1 + len(self.setup.motions))
+        #: rigid bodies that move under fluid forces (each spans one or more wall groups)
+        self.bodies = list(self.setup.bodies)
+        nb = len(self.kin)
+        self._fx, self._fz, self._mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
+        self.visc_coef = 2.0 * num.alpha * self.h * self.c0
+        self.delta_coef = (num.delta * self.h * self.c0
+                           if num.density_filter in ("delta", "ddt") else 0.0)
+        #: rho0 / c0^2: the hydrostatic form of the diffusive term (0: renormalised form)
+        self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
+        #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
+        self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
+        #: damage opening parameters for the kernels (:mod:`sph.bodies.damage`)
+        self.op = (self.setup.opening.params if self.setup.opening is not None
+                   else no_opening())
+        self.force_scale = (self.setup.force_scale if self.setup.force_scale is not None
+                            else np.ones(int(self.parts.comp.max()) + 1))
+        self._allocate_work()
+        #: objects whose state a checkpoint must hold besides the particles: each has
+        #: ``get_state() -> dict`` (numpy arrays and scalars) and ``set_state(dict)``
+        self.stateful = list(self.bodies) + list(self.setup.events)
+        self.t = 0.0
+        self.step = 0
+        self.dt = 0.0
+        self.n_fluid = int(np.sum(self.parts.kind == FLUID))
+        #: fluid particles that left the domain and were removed (:meth:`_exclude`)
+        self.n_lost = 0
+        fmask = self.parts.kind == FLUID
+        self.volume0 = float(np.sum(self.parts.m[fmask] / self.parts.rho[fmask]))
+        self.record = Record()
+        self.warned_c0 = False
+        probes = cfg.probes
+        self._surf_x = np.array([p.x for p in probes.surface], dtype=np.float64)
+        self._pres_x = np.array([p.x for p in probes.pressure], dtype=np.float64)
+        self._pres_z = np.array([p.z for p in probes.pressure], dtype=np.float64)
+        self._zfloor = self.setup.bounds[2]
+
+    def _allocate_work(self) -> None:
+        """Per-particle work arrays; call again when the number of particles changes."""
+        n = self.parts.n
+        self._pf = np.zeros((n, 3)) if self.bodies else None
+        self._grx = np.zeros(n)
+        self._grz = np.zeros(n)
+        self._rho_buf = np.zeros(n)
+
+    # ------------------------------------------------------------------ physics
+    def _kinematics(self, t: float) -> None:
+        for k, motion in enumerate(self.setup.motions, start=1):
+            self.kin[k] = motion.kinematics(t)
+
+    def evaluate(self) -> None:
+        """Place walls, sort, and compute pressures and time derivatives at ``self.t``."""
+        p = self.parts
+        if self.setup.motions:
+            self._kinematics(self.t)
+            place_walls(p.x, p.z, p.vx, p.vz, p.bx, p.bz, p.kind, p.body, self.kin)
+        for event in self.setup.events:
+            event.apply(self)  # may replace self.parts
+        p = self.parts
+        g = self.grid
+        n_out = g.sort(p.x, p.z)
+        if n_out:
+            self._exclude()
+            p = self.parts
+            g.sort(p.x, p.z)
+        p.permute(g.order)
+        fl = self.cfg.fluid
+        fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
+        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+                      g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
+                      self.b, fl.gamma, self.cfg.numerics.dx**2, self.op)
+        if self.delta_coef and not self.ddt_rho:
+            renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
+                                          g.cell_start, g.ncx, self.kp, self._grx, self._grz,
+                                          self.op, self.kin)
+        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+                 g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
+                 self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
+                 self.op, self.kin, self.shift, p.sx, p.sz)
+        if self.bodies:
+            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+                        g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
+                        self._fz, self._mom, self._pf, self.force_scale, self.op)
+            for body in self.bodies:
+                body.collect_forces(self._fx, self._fz, self._mom)
+
+    def _exclude(self) -> None:
+        """Remove the fluid particles that left the domain, within the budget
+        ``run.max_lost_fraction`` of the initial fluid particles (as SPH codes exclude
+        particles that escape through a wall); stop the run for a NaN position, a wall
+        particle outside the domain or a spent budget."""
+        p, g = self.parts, self.grid
+        xmin, xmax, zmin, zmax = g.bounds
+        inside = (p.x >= xmin) & (p.x <= xmax) & (p.z >= zmin) & (p.z <= zmax)
+        out = ~inside
+        where = (f"the domain x in [{xmin:g}, {xmax:g}], z in [{zmin:g}, {zmax:g}] m")
+        if not np.all(np.isfinite(p.x[out]) & np.isfinite(p.z[out])) \
+                or np.any(p.kind[out] != FLUID):
+            raise SimulationError(self.step, self.t, f"{int(out.sum())} particle(s) left "
+                                  f"{where} (or are NaN)")
+        n_out = int(out.sum())
+        budget = int(self.cfg.run.max_lost_fraction * self.n_fluid)
+        if self.n_lost + n_out > budget:
+            raise SimulationError(self.step, self.t, f"{n_out} fluid particle(s) left {where}"
+                                  f", {self.n_lost + n_out} in all, more than "
+                                  f"run.max_lost_fraction allows ({budget})")
+        k = np.nonzero(out)[0]
+        log.warning("t = %.5g s (step %d): %d fluid particle(s) left %s at (x, z) = %s m, "
+                    "speed %s m/s; removed (%d of %d allowed)", self.t, self.step, n_out,
+                    where, ", ".join(f"({p.x[i]:.3g}, {p.z[i]:.3g})" for i in k[:5]),
+                    ", ".join(f"{math.hypot(p.vx[i], p.vz[i]):.3g}" for i in k[:5]),
+                    self.n_lost + n_out, budget)
+        self.n_lost += n_out
+        self.parts = p.take(inside)
+        self._allocate_work()
+
+    def advance(self) -> None:
+        """One time step (derivatives at the current level must be up to date)."""
+        p, num = self.parts, self.cfg.numerics
+        vmax, amax = max_speed_accel(p.vx, p.vz, p.ax, p.az, p.kind)
+        self.dt = time_step(num.cfl, self.h, self.c0, num.alpha, vmax, amax)
+        if not self.warned_c0 and 10.0 * vmax > self.c0:
+            self.warned_c0 = True
+            log.warning("t = %.4g s: max velocity %.3g m/s exceeds c0/10 = %.3g m/s; "
+                        "compressibility errors grow (raise numerics.c_factor)",
+                        self.t, vmax, self.c0 / 10.0)
+        s = self.step + 1
+        mls_due = num.density_filter == "mls" and s % num.mls_interval == 0
+        euler = mls_due or s % num.euler_interval == 0 or self.step == 0
+        g = self.grid
+        if mls_due:
+            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
+                        g.ncx, self.kp, self._rho_buf, self.op, self.kin)
+            p.rho[:] = self._rho_buf
+        verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
+                      p.drho, p.kind, self.dt, euler, self.setup.absorber)
+        if shifting_active(self.shift):
+            apply_shift(p.x, p.z, p.sx, p.sz, p.kind)
+        for body in self.bodies:
+            body.update(self.dt, euler)
+        self.t += self.dt
+        self.step = s
+        self.evaluate()
+
+    # ------------------------------------------------------------------ checks
+    def check(self) -> None:
+        """Stop with a :class:`SimulationError` on NaN/inf or a density out of band."""
+        p, run, rho0 = self.parts, self.cfg.run, self.cfg.fluid.rho0
+        f = p.kind == FLUID
+        for name in ("x", "z", "vx", "vz", "rho", "ax", "az"):
+            arr = getattr(p, name)[f]
+            if not np.all(np.isfinite(arr)):
+                bad = int(np.sum(~np.isfinite(arr)))
+                raise SimulationError(self.step, self.t, f"{bad} fluid particle(s) have a "
+                                      f"non-finite {name}")
+        rho = p.rho[f]
+        lo, hi = float(rho.min()), float(rho.max())
+        if lo < run.density_min * rho0 or hi > run.density_max * rho0:
+            raise SimulationError(self.step, self.t, f"fluid density {lo:.5g}..{hi:.5g} "
+                                  f"kg/m3 left the band [{run.density_min * rho0:g}, "
+                                  f"{run.density_max * rho0:g}] (run.density_min/max)")
+        if self.dt and self.dt < 1e-6 * self.h / self.c0:
+            raise SimulationError(self.step, self.t, f"time step collapsed to {self.dt:.3g} s")
+
+    # ------------------------------------------------------------------ output
+    def sample(self) -> None:
+        """Append the current state to the time series."""
+        p, fl = self.parts, self.cfg.fluid
+        f = p.kind == FLUID
+        m, vx, vz, rho = p.m[f], p.vx[f], p.vz[f], p.rho[f]
+        speed2 = vx * vx + vz * vz
+        values = {
+            "n_particles": float(f.sum()),
+            "dt": self.dt,
+            "kinetic_energy": float(0.5 * np.sum(m * speed2)),
+            "potential_energy": float(fl.gravity * np.sum(m * p.z[f])),
+            "volume_error": float(np.sum(m / rho) / self.volume0 - 1.0),
+            "max_velocity": float(np.sqrt(speed2.max())),
+            "density_min": float(rho.min()),
+            "density_max": float(rho.max()),
+        }
+        if self.bodies:
+            values.update(self.bodies[0].motions())
+            forces = np.array([b.force for b in self.bodies])
+            values["body_force_x"] = forces[:, 0]
+            values["body_force_z"] = forces[:, 1]
+            values["body_moment"] = forces[:, 2]
+        for name, fn in self.setup.diagnostics.items():
+            values[name] = fn(p, self.t)
+        surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, p.comp, self.setup.probe_comp,
+                               self._surf_x, self.kp,
+                               self._zfloor, 0.1 * self.cfg.numerics.dx)
+        pres = point_pressures(p.x, p.z, p.m, p.rho, p.p, p.kind, self._pres_x, self._pres_z,
+                               self.kp, self.gx, self.gz)
+        if self.setup.extra_probes:
+            surf = np.concatenate([surf, [fn(p) for fn, _ in self.setup.extra_probes.values()]])
+        self.record.add(self.t, values, surf, pres)
+
+    # ------------------------------------------------------------------ state
+    def get_state(self) -> dict[str, np.ndarray]:
+        """The complete state as named numpy arrays: particles (every field, in the sorted
+        order of the last evaluation, with its derivatives), wall kinematics, the scalars
+        of :data:`STATE_SCALARS`, the sampled time series (``record.*``) and the state of
+        every stateful object (``stateful.K.*``: rigid bodies, the damage opening).
+        :meth:`set_state` of a stepper built from the same configuration continues bit for
+        bit."""
+        out: dict[str, np.ndarray] = {
+            "particles.fields": np.array(" ".join(FLOAT_FIELDS) + " | " + " ".join(INT_FIELDS)),
+            "particles.f": self.parts.f,
+            "particles.i": self.parts.i,
+            "kin": self.kin,
+        }
+        for name, tp in STATE_SCALARS.items():
+            out[name] = np.array(tp(getattr(self, name)))
+        rec = self.record
+        n = len(rec.time)
+        out["record.time"] = np.asarray(rec.time, dtype=np.float64)
+        for name in ("surface", "pressure"):  # (sample, probe); probes may be none
+            out[f"record.{name}"] = (np.asarray(getattr(rec, name), dtype=np.float64) if n
+                                     else np.zeros((0, 0)))
+        for key, values in rec.series.items():
+            out[f"record.series.{key}"] = np.asarray(values, dtype=np.float64)
+        out["stateful.count"] = np.array(len(self.stateful))
+        for k, obj in enumerate(self.stateful):
+            for key, value in obj.get_state().items():
+                out[f"stateful.{k}.{key}"] = np.asarray(value)
+        return out
+
+    def set_state(self, state: dict[str, np.ndarray]) -> None:
+        """Put a state of :meth:`get_state` into this stepper (built from the same
+        configuration); the derivatives come with it, so no evaluation is needed before the
+        next :meth:`advance`.
+
+        Raises
+        ------
+        StateMismatch
+            If the state does not fit (other particle fields, wall groups or objects, or
+            particles not in cell order).
+        """
+        fields = str(state["particles.fields"])
+        if fields != " ".join(FLOAT_FIELDS) + " | " + " ".join(INT_FIELDS):
+            raise StateMismatch(f"other particle fields ({fields})")
+        f, i = state["particles.f"], state["particles.i"]
+        if f.shape[0] != len(FLOAT_FIELDS) or i.shape != (len(INT_FIELDS), f.shape[1]):
+            raise StateMismatch(f"particle arrays of shapes {f.shape}, {i.shape} do not fit")
+        if state["kin"].shape != self.kin.shape:
+            raise StateMismatch(f"{state['kin'].shape[0]} wall groups, this case has "
+                                f"{self.kin.shape[0]}")
+        if int(state["stateful.count"]) != len(self.stateful):
+            raise StateMismatch(f"{int(state['stateful.count'])} stateful objects, this case "
+                                f"has {len(self.stateful)}")
+        parts = Particles(f.shape[1])
+        parts.f[:] = f
+        parts.i[:] = i
+        self.parts = parts
+        self._allocate_work()
+        self.kin[:] = state["kin"]
+        for name, tp in STATE_SCALARS.items():
+            setattr(self, name, tp(state[name][()]))
+        for k, obj in enumerate(self.stateful):
+            prefix = f"stateful.{k}."
+            try:
+                obj.set_state({key[len(prefix):]: value for key, value in state.items()
+                               if key.startswith(prefix)})
+            except (KeyError, ValueError) as exc:
+                raise StateMismatch(f"state of {type(obj).__name__} does not fit: {exc}"
+                                    ) from exc
+        self.record.restore(state)
+        # the cell lists of the restored (already sorted) particles: the counting sort is
+        # stable, so sorting them again leaves their order as it is
+        n_out = self.grid.sort(parts.x, parts.z)
+        if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
+            raise StateMismatch("particles are not in cell order")

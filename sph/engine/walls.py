@@ -1,0 +1,160 @@
+r"""Dummy-particle walls (Cao et al. 2019, Sec. II B; Adami, Hu & Adams 2012).
+
+Walls are several layers of particles behind each solid surface. Every wall particle belongs
+to a motion group ``body`` (0 = the fixed tank) and keeps its position in that group's frame.
+Its pressure is extrapolated from the fluid around it with gravity and the wall's own
+acceleration (Eq. 11), and its density follows from the inverse Tait law (Eq. 12):
+
+.. math::
+    P_B = \frac{\sum_f V_f W_{Bf}\left[P_f + \rho_f (\mathbf{g} - \mathbf{a}_B)\cdot
+          (\mathbf{r}_B - \mathbf{r}_f)\right]}{\sum_f V_f W_{Bf}}
+
+A wall particle without fluid in its support gets :math:`P_B = 0`. Rigid-body kinematics of
+a wall particle at :math:`\mathbf{r} = \mathbf{r}_B - \mathbf{r}_c` (Eq. 13):
+:math:`\mathbf{a}_B = \dot{\mathbf{V}} + \dot\Omega\times\mathbf{r}
++ \Omega\times\Omega\times\mathbf{r}`.
+
+Body kinematics travel to numba as an array ``kin`` of shape ``(n_body, 9)`` with columns
+``[xc, zc, theta, vxc, vzc, omega, axc, azc, alpha]`` (reference point, angle
+counter-clockwise, and their first and second time derivatives).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from sph.engine.eos import tait_density
+from sph.engine.jit import JIT_PARALLEL, njit
+from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
+from sph.engine.opening import wall_hidden
+
+KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
+
+
+def fixed_kinematics(n_body: int) -> np.ndarray:
+    """Kinematics array of ``n_body`` motion groups all at rest at the origin."""
+    return np.zeros((n_body, len(KIN_COLUMNS)), dtype=np.float64)
+
+
+@njit(**JIT_PARALLEL)
+def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
+    """Positions and velocities of moving wall particles from their groups' kinematics.
+
+    Group 0 (the fixed tank) is left untouched."""
+    for i in prange(x.shape[0]):
+        b = body[i]
+        if kind[i] != 1 or b == 0:
+            continue
+        ct = math.cos(kin[b, 2])
+        st = math.sin(kin[b, 2])
+        rx = ct * bx[i] - st * bz[i]
+        rz = st * bx[i] + ct * bz[i]
+        x[i] = kin[b, 0] + rx
+        z[i] = kin[b, 1] + rz
+        om = kin[b, 5]
+        vx[i] = kin[b, 3] - om * rz
+        vz[i] = kin[b, 4] + om * rx
+
+
+@njit(**JIT_PARALLEL)
+def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
+                  kin, rho0, b_coef, gamma, vol0, op):
+    """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
+
+    A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
+    its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
+    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in tension
+    would attract the fluid through itself."""
+    n = x.shape[0]
+    r2max = kp[KP_R2MAX]
+    for i in prange(n):
+        if kind[i] != 1:
+            continue
+        b = body[i]
+        xi = x[i]
+        zi = z[i]
+        rx = xi - kin[b, 0]
+        rz = zi - kin[b, 1]
+        om2 = kin[b, 5] * kin[b, 5]
+        al = kin[b, 8]
+        abx = kin[b, 6] - al * rz - om2 * rx
+        abz = kin[b, 7] + al * rx - om2 * rz
+        ex = gx - abx
+        ez = gz - abz
+        ci = comp[i]
+        sw = 0.0
+        sp = 0.0
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                if kind[j] != 0 or comp[j] != ci:
+                    continue
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
+                    continue
+                w = w_r2(r2, kp) * m[j] / rho[j]
+                sw += w
+                sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
+        # a wall in tension would pull fluid through itself (a vortex core reaching a wall
+        # takes negative pressure with it); walls push, they do not pull
+        p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
+        rho[i] = tait_density(p[i], rho0, b_coef, gamma)
+        m[i] = rho[i] * vol0
+
+
+@njit(**JIT_PARALLEL)
+def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
+                n_body, fx, fz, mom, pf, scale, op):
+    r"""Pressure force and moment per unit length on each motion group (Eq. 10).
+
+    .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
+              \frac{m_i}{\rho_i}
+
+    Per-particle values are reduced per group afterwards; the moment is taken about the
+    group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
+    ``(n, 3)`` work array for the per-particle values (reused between steps); the force of
+    the fluid of compartment ``c`` is multiplied by ``scale[c]``."""
+    n = x.shape[0]
+    r2max = kp[KP_R2MAX]
+    for i in prange(n):
+        if kind[i] != 1 or body[i] == 0:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        b = body[i]
+        vi = m[i] / rho[i]
+        sx = 0.0
+        sz = 0.0
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                if kind[j] != 0 or comp[j] != ci:
+                    continue
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
+                    continue
+                # as in the momentum equation, fluid tension does not pull on a wall
+                fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+                sx += fw * dx
+                sz += fw * dz
+        vi *= scale[ci]
+        pf[i, 0] = -vi * sx
+        pf[i, 1] = -vi * sz
+        pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]
+    fx[:] = 0.0
+    fz[:] = 0.0
+    mom[:] = 0.0
+    for i in range(n):
+        if kind[i] == 1 and body[i] > 0:
+            b = body[i]
+            fx[b] += pf[i, 0]
+            fz[b] += pf[i, 1]
+            mom[b] += pf[i, 2]

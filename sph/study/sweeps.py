@@ -1,0 +1,590 @@
+"""Parameter studies: sweep configurations, case tables, case files and sweep datasets.
+
+A *sweep* is a set of ``damaged_ship`` runs that differ in a few case parameters (the paper's
+Table I: opening size, opening side, cargo fill ratio), run at one resolution *preset*. The
+workflow (``Snakefile``) reads its configuration with :func:`load_sweep`, which checks every
+key before any job starts; writes one case file per run with :func:`case_document`; and
+concatenates the runs into one dataset with a ``case`` dimension with :func:`gather`.
+
+Sweep configuration (``config/config.yaml``; a sweep file under ``config/sweeps/`` overrides
+what it names):
+
+=================  ==========================================================================
+``sweep``          name of the sweep; its results go to ``results/<sweep>/``
+``title``          one line describing the sweep
+``cases``          path of a case table (TSV or CSV) or an inline list of rows
+``preset``         resolution preset, a name in the presets file
+``presets``        path of the presets file
+``set``            case-file values (dotted keys) applied to every run of the sweep
+``reference``      the reference case of the paper's comparisons (opening, side, fill,
+                   amplitude): figures and findings group the cases around it
+``t2_periods``     start of the dynamic-equilibrium stage, in wave periods (paper's t2)
+``validation``     validation targets to run (see :data:`VALIDATION_TARGETS`)
+``validation_data`` folder of the experimental series; null = ``data/validation/``
+=================  ==========================================================================
+
+Case table columns: ``case`` (an explicit id, used in file names), ``opening`` (delta_bar =
+delta / d; 0 = intact), ``side`` (``back`` or ``head``), ``fill`` (eta, in [0, 1)), and
+optionally ``amplitude`` (incident wave amplitude over draught, A / d; 0 = still water; default
+10/21) and ``description``. Numbers may be written as fractions (``10/21``).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from sph import __version__
+from sph.cases import build_case, load_defaults
+from sph.io.output import cf_attrs, read_dataset
+from sph.schema import ConfigError
+
+#: sides of the damage opening
+SIDES = ("back", "head")
+#: validation targets the workflow knows
+VALIDATION_TARGETS = ("wave_tank", "sloshing", "decay", "floating_box", "dam_break")
+#: columns of a case table
+CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "description")
+#: Table I's incident wave: A / d = 10/21 (A = 2.0 m at d = 4.2 m)
+DEFAULT_AMPLITUDE = 10.0 / 21.0
+#: top-level keys of a sweep configuration
+SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference", "t2_periods",
+              "validation", "validation_data")
+#: sections of a preset
+PRESET_KEYS = ("description", "ship", "wave_tank", "sloshing", "decay", "floating_box",
+               "dam_break")
+#: keys of each preset section and whether they are required
+PRESET_SECTION_KEYS = {
+    "ship": {"dx": True, "periods": True, "output_interval": False, "set": False},
+    "wave_tank": {"dx_over_amplitude": True, "amplitude": True, "t_end": True, "window": True,
+                  "output_interval": False, "set": False},
+    "sloshing": {"dx": True, "t_end": True, "fills": True, "output_interval": False,
+                 "set": False},
+    "decay": {"dx": True, "t_end": True, "heel": True, "heave_offset": True,
+              "output_interval": False, "set": False},
+    "floating_box": {"dx": True, "t_end": True, "output_interval": False, "set": False},
+    "dam_break": {"dx": True, "t_end": True, "output_interval": False, "set": False},
+}
+_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_-]*$")
+_FRACTION = re.compile(r"^\s*([+-]?\d+(?:\.\d*)?)\s*/\s*(\d+(?:\.\d*)?)\s*$")
+
+
+# ------------------------------------------------------------------------------ numbers
+def parse_number(value: Any, key: str) -> float:
+    """A finite number from a YAML/table value; ``"10/21"`` style fractions are accepted.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key`` when the value is not a finite number or fraction.
+    """
+    if isinstance(value, bool):
+        raise ConfigError(key, f"expected a number, got {value!r}")
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        out = float(value)
+    elif isinstance(value, str):
+        m = _FRACTION.match(value)
+        try:
+            out = float(m.group(1)) / float(m.group(2)) if m else float(value)
+        except (ValueError, ZeroDivisionError):
+            raise ConfigError(key, f"expected a number or a fraction such as 10/21, got "
+                              f"{value!r}") from None
+    else:
+        raise ConfigError(key, f"expected a number, got {value!r}")
+    if not math.isfinite(out):
+        raise ConfigError(key, f"must be finite; got {value!r}")
+    return out
+
+
+def _in_range(value: float, key: str, lo: float, hi: float, hi_open: bool = False) -> float:
+    if value < lo or value > hi or (hi_open and value == hi):
+        right = ")" if hi_open else "]"
+        raise ConfigError(key, f"must be in [{lo:g}, {hi:g}{right}; got {value:g}")
+    return value
+
+
+def _check_id(value: Any, key: str, what: str) -> str:
+    if not isinstance(value, str) or not _ID.match(value):
+        raise ConfigError(key, f"{what} must be a non-empty name of letters, digits, '_' and "
+                          f"'-' (starting with a letter or digit); got {value!r}")
+    return value
+
+
+def _check_keys(data: Mapping, allowed: Sequence[str], where: str) -> None:
+    for k in data:
+        if k not in allowed:
+            name = f"{where}.{k}" if where else str(k)
+            raise ConfigError(name, f"unknown key; allowed keys here: {', '.join(allowed)}")
+
+
+# ------------------------------------------------------------------------------ case table
+def read_case_table(path: str | Path) -> list[dict]:
+    """Rows of a case table file (tab- or comma-separated, ``#`` comment lines skipped)."""
+    import csv
+
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise ConfigError("cases", f"cannot read the case table {str(path)!r}: "
+                          f"{exc.strerror}") from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ConfigError("cases", f"the case table {str(path)!r} is empty")
+    delimiter = "\t" if "\t" in lines[0] else ","
+    reader = csv.reader(lines, delimiter=delimiter)
+    header = [h.strip() for h in next(reader)]
+    rows = []
+    for n, fields in enumerate(reader, start=1):
+        if len(fields) != len(header):
+            raise ConfigError(f"cases[{n}]", f"row {n} of {str(path)!r} has {len(fields)} "
+                              f"fields, the header has {len(header)}")
+        rows.append({h: f.strip() for h, f in zip(header, fields, strict=True)})
+    return rows
+
+
+def check_cases(rows: Any) -> list[dict]:
+    """Validate case rows; returns them with numbers parsed and defaults filled in.
+
+    Checks: a non-empty list of mappings; only the known columns; an explicit, unique,
+    file-name-safe ``case`` id; ``opening`` in [0, 1); ``side`` back or head; ``fill`` in
+    [0, 1); ``amplitude`` in [0, 2]. Each error names the row's key (``cases[k].column``).
+    """
+    if not isinstance(rows, list) or not rows:
+        raise ConfigError("cases", "expected a non-empty list of cases (or the path of a case "
+                          f"table); got {rows!r}")
+    out, seen = [], {}
+    for k, row in enumerate(rows):
+        key = f"cases[{k}]"
+        if not isinstance(row, Mapping):
+            raise ConfigError(key, f"expected a mapping of columns, got {row!r}")
+        _check_keys(row, CASE_COLUMNS, key)
+        for col in ("case", "opening", "side", "fill"):
+            if col not in row or row[col] in (None, ""):
+                raise ConfigError(f"{key}.{col}", "required column is missing")
+        cid = _check_id(str(row["case"]) if isinstance(row["case"], int) else row["case"],
+                        f"{key}.case", "a case id")
+        if cid in seen:
+            raise ConfigError(f"{key}.case", f"duplicate case id {cid!r} (also cases[{seen[cid]}])"
+                              "; case ids must be unique")
+        seen[cid] = k
+        side = row["side"]
+        if side not in SIDES:
+            raise ConfigError(f"{key}.side", f"unknown side {side!r}; must be one of "
+                              f"{', '.join(SIDES)}")
+        amp = row.get("amplitude")
+        amp = DEFAULT_AMPLITUDE if amp in (None, "") else parse_number(amp,
+                                                                        f"{key}.amplitude")
+        out.append(dict(
+            case=cid,
+            opening=_in_range(parse_number(row["opening"], f"{key}.opening"),
+                              f"{key}.opening", 0.0, 1.0, hi_open=True),
+            side=side,
+            fill=_in_range(parse_number(row["fill"], f"{key}.fill"), f"{key}.fill", 0.0, 1.0,
+                           hi_open=True),
+            amplitude=_in_range(amp, f"{key}.amplitude", 0.0, 2.0),
+            description=str(row.get("description") or ""),
+        ))
+    return out
+
+
+# ------------------------------------------------------------------------------ presets
+def check_presets(presets: Any, source: str = "presets") -> dict:
+    """Validate a presets mapping ``name -> sections`` (see :data:`PRESET_SECTION_KEYS`)."""
+    if not isinstance(presets, Mapping) or not presets:
+        raise ConfigError(source, "expected a mapping of preset names to settings")
+    for name, preset in presets.items():
+        where = f"{source}.{name}"
+        _check_id(name, where, "a preset name")
+        if not isinstance(preset, Mapping):
+            raise ConfigError(where, f"expected a mapping of sections, got {preset!r}")
+        _check_keys(preset, PRESET_KEYS, where)
+        for section, keys in PRESET_SECTION_KEYS.items():
+            sec = preset.get(section)
+            if not isinstance(sec, Mapping):
+                raise ConfigError(f"{where}.{section}", "required section is missing or not "
+                                  "a mapping")
+            _check_keys(sec, tuple(keys), f"{where}.{section}")
+            for k, required in keys.items():
+                if required and k not in sec:
+                    raise ConfigError(f"{where}.{section}.{k}", "required key is missing")
+            for k, v in sec.items():
+                sub = f"{where}.{section}.{k}"
+                if k == "set":
+                    _check_set(v, sub)
+                elif k in ("dx_over_amplitude", "window", "fills"):
+                    if not isinstance(v, list) or not v:
+                        raise ConfigError(sub, f"expected a non-empty list, got {v!r}")
+                    for i, x in enumerate(v):
+                        _in_range(parse_number(x, f"{sub}[{i}]"), f"{sub}[{i}]", 0.0, 1.0e6)
+                    if k == "window" and len(v) != 2:
+                        raise ConfigError(sub, f"expected [start, end] in s, got {v!r}")
+                else:
+                    x = parse_number(v, sub)
+                    lo = -90.0 if k in ("heel", "heave_offset") else 0.0
+                    if k not in ("heel", "heave_offset") and x <= 0.0:
+                        raise ConfigError(sub, f"must be positive; got {x:g}")
+                    _in_range(x, sub, lo, 1.0e6)
+    return dict(presets)
+
+
+def _check_set(value: Any, key: str) -> dict:
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise ConfigError(key, "expected a mapping of dotted case keys to values, e.g. "
+                          "{geometry.hull.kg: 3.4}")
+    for k in value:
+        if not isinstance(k, str) or not k or " " in k:
+            raise ConfigError(f"{key}.{k}", "expected a dotted case key such as numerics.dx")
+    return dict(value)
+
+
+# ------------------------------------------------------------------------------ sweep
+def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
+    """Check a sweep configuration and resolve it.
+
+    Returns a new mapping with ``cases`` as checked rows, ``presets`` as the checked presets
+    mapping, ``preset_settings`` (the chosen preset), ``reference`` and ``t2_periods`` as
+    numbers. Paths are relative to ``base``.
+
+    Raises
+    ------
+    ConfigError
+        Naming the offending key: unknown keys, a missing or unknown preset, bad case rows,
+        an unknown validation target, ...
+    """
+    if not isinstance(config, Mapping):
+        raise ConfigError("", "the configuration must be a mapping")
+    _check_keys(config, SWEEP_KEYS, "")
+    for k in ("sweep", "cases", "preset", "presets"):
+        if k not in config or config[k] in (None, ""):
+            raise ConfigError(k, "required key is missing")
+    base = Path(base)
+    cfg = dict(config)
+    cfg["sweep"] = _check_id(config["sweep"], "sweep", "the sweep name")
+    if cfg["sweep"] == "validation":
+        raise ConfigError("sweep", "'validation' is reserved for the validation results")
+    cfg["title"] = str(config.get("title") or cfg["sweep"])
+    cases = config["cases"]
+    if isinstance(cases, str):
+        cases = read_case_table(base / cases)
+    cfg["cases"] = check_cases(cases)
+    presets_path = base / str(config["presets"])
+    try:
+        presets = yaml.safe_load(presets_path.read_text())
+    except OSError as exc:
+        raise ConfigError("presets", f"cannot read {str(presets_path)!r}: "
+                          f"{exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        raise ConfigError("presets", f"{str(presets_path)!r} is not valid YAML: "
+                          f"{exc}") from None
+    cfg["presets"] = check_presets(presets, "presets")
+    preset = config["preset"]
+    if preset not in cfg["presets"]:
+        raise ConfigError("preset", f"unknown preset {preset!r}; must be one of "
+                          f"{', '.join(cfg['presets'])}")
+    cfg["preset_settings"] = cfg["presets"][preset]
+    cfg["set"] = _check_set(config.get("set"), "set")
+    ref = config.get("reference") or {}
+    if not isinstance(ref, Mapping):
+        raise ConfigError("reference", f"expected a mapping, got {ref!r}")
+    _check_keys(ref, ("opening", "side", "fill", "amplitude"), "reference")
+    cfg["reference"] = check_cases([dict(case="reference", opening=ref.get("opening", 10 / 21),
+                                         side=ref.get("side", "back"),
+                                         fill=ref.get("fill", 0.0),
+                                         amplitude=ref.get("amplitude",
+                                                           DEFAULT_AMPLITUDE))])[0]
+    cfg["t2_periods"] = _in_range(parse_number(config.get("t2_periods", 7.0), "t2_periods"),
+                                  "t2_periods", 0.0, 1.0e4)
+    targets = config.get("validation") or []
+    if not isinstance(targets, list):
+        raise ConfigError("validation", f"expected a list of targets, got {targets!r}")
+    for i, t in enumerate(targets):
+        if t not in VALIDATION_TARGETS:
+            raise ConfigError(f"validation[{i}]", f"unknown validation target {t!r}; must "
+                              f"be one of {', '.join(VALIDATION_TARGETS)}")
+    cfg["validation"] = list(dict.fromkeys(targets))
+    return cfg
+
+
+# ------------------------------------------------------------------------------ case files
+def nest(overrides: Mapping[str, Any]) -> dict:
+    """``{"a.b": 1, "a.c": 2}`` -> ``{"a": {"b": 1, "c": 2}}``."""
+    out: dict = {}
+    for key, value in overrides.items():
+        parts = key.split(".")
+        node = out
+        for i, part in enumerate(parts[:-1]):
+            nxt = node.setdefault(part, {})
+            if not isinstance(nxt, dict):
+                raise ConfigError(".".join(parts[: i + 1]), f"is set both as a value and as a "
+                                  f"section (setting {key})")
+            node = nxt
+        if isinstance(node.get(parts[-1]), dict):
+            raise ConfigError(key, "is set both as a value and as a section")
+        node[parts[-1]] = copy.deepcopy(value)
+    return out
+
+
+def case_document(case: str, overrides: Mapping[str, Any]) -> dict:
+    """The case file of one run: the built-in case ``case`` with ``overrides`` (dotted keys)
+    on top; the engine fills in every other value from the case's defaults."""
+    doc = {"case": case}
+    doc.update(nest(overrides))
+    return doc
+
+
+def check_case_document(doc: Mapping, where: str):
+    """Build the engine's configuration of a case file (every key and range checked, the
+    ship's geometry rules included) and return it; errors name the run and the key."""
+
+    try:
+        return build_case(copy.deepcopy(dict(doc)))
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc.key}" if exc.key else where,
+                          str(exc).split(": ", 1)[-1] if exc.key else str(exc)) from None
+
+
+def _wave_period(overrides: Mapping[str, Any]) -> float:
+
+    omega = overrides.get("geometry.wavemaker.omega")
+    if omega is None:
+        omega = load_defaults("damaged_ship")["geometry"]["wavemaker"]["omega"]
+    return 2.0 * math.pi / float(omega)
+
+
+def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
+    """Case-file values (dotted keys) of one Table I style run."""
+    ship = sweep["preset_settings"]["ship"]
+    over: dict[str, Any] = {}
+    over.update(ship.get("set") or {})
+    over.update(sweep.get("set") or {})
+    over["numerics.dx"] = parse_number(ship["dx"], "ship.dx")
+    over["geometry.damage.opening"] = float(row["opening"])
+    over["geometry.damage.side"] = row["side"]
+    over["geometry.fill"] = float(row["fill"])
+    draught = over.get("geometry.hull.draught", 4.2)
+    amplitude = float(row["amplitude"]) * float(draught)
+    if amplitude > 0.0:
+        over["geometry.wavemaker.amplitude"] = round(amplitude, 12)
+        over["geometry.wavemaker.theta0"] = None
+    else:  # still water
+        over["geometry.wavemaker.amplitude"] = None
+        over["geometry.wavemaker.theta0"] = 0.0
+    period = _wave_period(over)
+    over["run.t_end"] = round(parse_number(ship["periods"], "ship.periods") * period, 9)
+    if "output_interval" in ship:
+        over["run.output_interval"] = parse_number(ship["output_interval"],
+                                                   "ship.output_interval")
+    return over
+
+
+def validation_runs(sweep: Mapping, data_dir: str | Path) -> dict[str, dict[str, tuple]]:
+    """Runs of the validation targets of the sweep's preset: ``target -> run id ->
+    (engine case, overrides)``."""
+    p = sweep["preset_settings"]
+    data_dir = Path(data_dir)
+    runs: dict[str, dict[str, tuple]] = {}
+
+    def common(sec):
+        over = dict(sec.get("set") or {})
+        over["numerics.dx"] = parse_number(sec["dx"], "dx") if "dx" in sec else None
+        over["run.t_end"] = parse_number(sec["t_end"], "t_end")
+        if "output_interval" in sec:
+            over["run.output_interval"] = parse_number(sec["output_interval"],
+                                                       "output_interval")
+        return over
+
+    for target in sweep["validation"]:
+        sec = p[target]
+        if target == "wave_tank":
+            amp = parse_number(sec["amplitude"], "wave_tank.amplitude")
+            factors = sorted((parse_number(f, "wave_tank.dx_over_amplitude")
+                              for f in sec["dx_over_amplitude"]), reverse=True)
+            runs[target] = {}
+            for i, f in enumerate(factors, start=1):
+                over = common(sec)
+                over["numerics.dx"] = round(f * amp, 9)
+                over["geometry.wavemaker.amplitude"] = amp
+                over["geometry.wavemaker.theta0"] = None
+                runs[target][f"res{i}"] = ("wave_tank", over)
+        elif target == "sloshing":
+            runs[target] = {}
+            for f in sec["fills"]:
+                fill = parse_number(f, "sloshing.fills")
+                over = common(sec)
+                over["geometry.fill"] = fill
+                runs[target][f"fill{round(100 * fill):02d}"] = ("sloshing_u", over)
+        elif target == "decay":
+            roll = common(sec)
+            roll.update({"geometry.heel": parse_number(sec["heel"], "decay.heel"),
+                         "geometry.heave_offset": 0.0})
+            heave = common(sec)
+            heave.update({"geometry.heel": 0.0, "geometry.dofs.roll": False,
+                          "geometry.heave_offset": parse_number(sec["heave_offset"],
+                                                                "decay.heave_offset")})
+            runs[target] = {"roll": ("ship_decay", roll), "heave": ("ship_decay", heave)}
+        elif target == "floating_box":
+            over = common(sec)
+            over["geometry.wavemaker.file"] = str(data_dir / "hadzic2005" /
+                                                  "CaseFloatingWavesVal_Flap.dat")
+            over["geometry.wavemaker.file_sign"] = -1  # the file's angles count the other way
+            runs[target] = {"box": ("floating_box", over)}
+        elif target == "dam_break":
+            runs[target] = {"front": ("dam_break", common(sec))}
+    return runs
+
+
+# ------------------------------------------------------------------------------ groups
+def _close(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-6 * max(1.0, abs(a), abs(b))
+
+
+def groups(cases: Sequence[Mapping], reference: Mapping) -> dict[str, list[str]]:
+    """The paper's comparisons as lists of case ids (each sorted by the varied parameter).
+
+    ``opening``: back-side openings at the reference fill and wave, intact included (Figs.
+    12-15); ``side``: the reference opening on both sides (Figs. 17-19); ``fill``: the
+    reference opening and side at every fill (Figs. 21-23); ``amplitude``: the reference
+    opening, side and fill at every wave amplitude (Fig. 10). A group is listed when it
+    compares at least two cases.
+    """
+    ref = reference
+
+    def match(c, **kw):
+        for k, v in kw.items():
+            if k == "side" and c["side"] != v:
+                return False
+            if k != "side" and not _close(float(c[k]), float(v)):
+                return False
+        return True
+
+    g = {
+        "opening": sorted((c for c in cases if (c["side"] == ref["side"] or c["opening"] == 0)
+                           and match(c, fill=ref["fill"], amplitude=ref["amplitude"])),
+                          key=lambda c: c["opening"]),
+        "side": sorted((c for c in cases if match(c, opening=ref["opening"], fill=ref["fill"],
+                                                   amplitude=ref["amplitude"])),
+                       key=lambda c: SIDES.index(c["side"])),
+        "fill": sorted((c for c in cases if match(c, opening=ref["opening"], side=ref["side"],
+                                                   amplitude=ref["amplitude"])),
+                       key=lambda c: c["fill"]),
+        "amplitude": sorted((c for c in cases if match(c, opening=ref["opening"],
+                                                        side=ref["side"], fill=ref["fill"])),
+                            key=lambda c: c["amplitude"]),
+    }
+    # an intact case appears once in the opening group whatever its side column says
+    seen: set = set()
+    g["opening"] = [c for c in g["opening"]
+                    if not (c["opening"] == 0 and ("intact" in seen or seen.add("intact")))]
+    return {k: [c["case"] for c in v] for k, v in g.items() if len(v) >= 2}
+
+
+# ------------------------------------------------------------------------------ gather
+#: per-run global attributes kept as variables along ``case`` in the sweep dataset
+CASE_SCALARS = ("wall_clock_seconds", "steps", "n_total", "particle_steps_per_second")
+#: global attributes that must agree between the runs of a sweep (kept as global attributes)
+SHARED_ATTRS = ("wave_period", "damage_time", "omega", "dx", "draught", "breadth",
+                "hull_depth", "cabin_area", "depth", "kernel", "density_filter")
+
+
+def _nominal_times(ds) -> np.ndarray:
+    cfg = yaml.safe_load(ds.attrs["config"])
+    dt = float(cfg["run"]["output_interval"])
+    t_end = float(cfg["run"]["t_end"])
+    n = int(math.floor(t_end / dt + 1e-9))
+    return np.arange(n + 1) * dt
+
+
+def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping | None = None):
+    """Concatenate the runs of a sweep into one dataset with a ``case`` dimension.
+
+    Every run must have completed (global attribute ``status``). The time series are
+    interpolated linearly onto the nominal output times ``k * run.output_interval`` (a run
+    samples at the first step at or after each of them, less than one time step later), so
+    that all cases share one ``time`` coordinate. The case parameters become coordinates
+    along ``case`` (``opening``, ``side``, ``fill``, ``amplitude``), the per-run cost figures
+    and resolved configurations variables along it, and the attributes that the runs share
+    global attributes.
+    """
+    import xarray as xr
+
+
+    if len(paths) != len(cases):
+        raise ValueError(f"{len(paths)} files for {len(cases)} cases")
+    if not paths:
+        raise ValueError("nothing to gather")
+    sets = []
+    for path, case in zip(paths, cases, strict=True):
+        ds = read_dataset(path)
+        status = ds.attrs.get("status", "")
+        if status != "completed":
+            raise ValueError(f"case {case['case']!r} ({path}) did not complete: status "
+                             f"{status!r}")
+        sets.append(ds)
+    grids = [_nominal_times(ds) for ds in sets]
+    grid = min(grids, key=len)
+    parts = []
+    for ds, case in zip(sets, cases, strict=True):
+        t = ds["time"].values
+        if t[-1] < grid[-1] - 1e-6 * max(1.0, grid[-1]):
+            raise ValueError(f"case {case['case']!r} ends at t = {t[-1]:g} s, before the "
+                             f"sweep's t_end = {grid[-1]:g} s")
+        timed = [v for v in ds.data_vars if "time" in ds[v].dims]
+        out = ds[timed].interp(time=grid, kwargs={"fill_value": "extrapolate"})
+        for v in timed:
+            out[v].attrs = dict(ds[v].attrs)
+        out["time"].attrs = dict(ds["time"].attrs)
+        for name in CASE_SCALARS:
+            if name in ds.attrs:
+                out[name] = ds.attrs[name]  # int (steps, particles) or float
+                out[name].attrs = cf_attrs(name)
+        out["case_config"] = str(ds.attrs.get("config", ""))
+        out["case_config"].attrs = cf_attrs("case_config")
+        out.attrs = {}
+        parts.append(out)
+    ds = xr.concat(parts, dim="case", join="outer", coords="minimal", compat="override",
+                   combine_attrs="drop_conflicts")
+    ds = ds.assign_coords(
+        case=("case", np.array([c["case"] for c in cases], dtype=object)),
+        opening=("case", np.array([c["opening"] for c in cases], dtype=float)),
+        side=("case", np.array([c["side"] for c in cases], dtype=object)),
+        fill=("case", np.array([c["fill"] for c in cases], dtype=float)),
+        amplitude=("case", np.array([c["amplitude"] for c in cases], dtype=float)),
+        description=("case", np.array([c.get("description", "") for c in cases],
+                                      dtype=object)),
+    )
+    for name in ("case", "opening", "side", "fill", "amplitude", "description"):
+        ds[name].attrs = cf_attrs(name)
+    source = f"sph-flood {__version__}"
+    import datetime as _dt
+
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    glob = {"Conventions": "CF-1.10", "title": "sph-flood sweep dataset", "source": source,
+            "history": f"{stamp}: gathered {len(cases)} runs by {source}"}
+    for name in SHARED_ATTRS:
+        values = {sets[0].attrs.get(name)} | {s.attrs.get(name) for s in sets[1:]}
+        if len(values) == 1 and None not in values:
+            glob[name] = sets[0].attrs[name]
+    glob.update({k: v for k, v in (attrs or {}).items() if v is not None})
+    ds.attrs = glob
+    for s in sets:
+        s.close()
+    return ds
+
+
+def write_case_table(cases: Sequence[Mapping], path: str | Path) -> None:
+    """Write checked case rows as a TSV table (the sweep's resolved case table)."""
+    lines = ["\t".join(CASE_COLUMNS)]
+    for c in cases:
+        lines.append("\t".join(f"{c[k]:.10g}" if isinstance(c[k], float) else str(c[k])
+                               for k in CASE_COLUMNS))
+    Path(path).write_text("\n".join(lines) + "\n")
