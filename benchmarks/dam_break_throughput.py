@@ -16,10 +16,8 @@ import json
 import statistics
 import time
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.driver import Simulation
-from sph.schema import apply_overrides
 
 SIZES = {"20k": 0.01, "80k": 0.005}  # dx (m): 100 x 200 and 200 x 400 fluid particles
 KERNELS = {"wendland": 1.41, "gaussian": 1.23}
@@ -27,10 +25,10 @@ KERNELS = {"wendland": 1.41, "gaussian": 1.23}
 
 def measure(dx: float, kernel: str, steps: int, warmup: int, threads: int,
             density_filter: str) -> tuple[int, float]:
-    cfg = build_case(apply_overrides(load_defaults("dam_break"), [
+    cfg = builtin("dam_break", [
         ("numerics.dx", dx), ("numerics.kernel", kernel),
         ("numerics.h_factor", KERNELS[kernel]), ("numerics.threads", threads),
-        ("numerics.density_filter", density_filter), ("run.t_end", 10.0)]))
+        ("numerics.density_filter", density_filter), ("run.t_end", 10.0)])
     sim = Simulation(cfg)
     sim.evaluate()
     for _ in range(warmup):

@@ -19,12 +19,11 @@ import json
 import statistics
 import time
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
+from sph.driver import Simulation
 from sph.engine import stepper as solver
 from sph.engine.neighbours import CellGrid
 from sph.engine.particles import Particles
-from sph.schema import apply_overrides
 
 #: engine stages called from the solver module (numba kernels)
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
@@ -51,11 +50,11 @@ def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: i
             setattr(solver, name, _timed(fn, name, timers))
         CellGrid.sort = _timed(sort, "cell sort", timers)
         Particles.permute = _timed(permute, "permute", timers)
-        cfg = build_case(apply_overrides(load_defaults("damaged_ship"), [
+        cfg = builtin("damaged_ship", [
             ("numerics.dx", dx), ("numerics.threads", threads),
             ("numerics.shifting", shifting),
-            ("geometry.damage.time_periods", damage_period)]))
-        sim = solver.Simulation(cfg)
+            ("geometry.damage.time_periods", damage_period)])
+        sim = Simulation(cfg)
         for event in sim.setup.events:
             event.apply = _timed(event.apply, type(event).__name__, timers)
         for body in sim.bodies:

@@ -8,19 +8,17 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.driver import Simulation
 from sph.engine.fluid import interact
 from sph.engine.opening import no_opening
 from sph.engine.walls import fixed_kinematics
-from sph.schema import apply_overrides
 from sph.study.analysis import validation_data_dir
 
 
 def run_builtin(case: str, overrides) -> Simulation:
     """Build and run a built-in case with ``overrides`` (list of "key=value")."""
-    cfg = build_case(apply_overrides(load_defaults(case), list(overrides)))
+    cfg = builtin(case, list(overrides))
     return Simulation(cfg).run()
 
 

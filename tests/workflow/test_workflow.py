@@ -28,7 +28,7 @@ from sph.cli import main
 from sph.io.checkpoint import checkpoint_files
 from sph.io.output import read_dataset
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 N_TABLE_ONE = 8
 
 

@@ -21,7 +21,7 @@ from hypothesis import strategies as st  # noqa: E402
 from sph.schema import ConfigError  # noqa: E402
 from sph.study.sweeps import load_sweep  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ROW = {"case": "c1", "opening": 0.4, "side": "back", "fill": 0.0}
 
 

@@ -6,19 +6,16 @@ import logging
 import numpy as np
 import pytest
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.driver import Simulation
 from sph.engine.stepper import SimulationError
-from sph.schema import apply_overrides
 
 SMALL = ["numerics.dx=0.1", "geometry.tank_length=1.0", "geometry.depth=0.5",
          "geometry.tank_height=0.8", "run.t_end=0.05", "run.output_interval=0.01"]
 
 
 def _sim(extra=()):
-    sim = Simulation(build_case(apply_overrides(load_defaults("still_water"),
-                                                SMALL + list(extra))))
+    sim = Simulation(builtin("still_water", SMALL + list(extra)))
     sim.evaluate()
     return sim
 

@@ -12,14 +12,12 @@ import pytest
 
 from sph.bodies.damage import orifice_rate
 from sph.bodies.hull import HullConfig, cabin_area, flooded_equilibrium, mid_shape, opening_bottom
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
 from sph.engine.opening import sdf_many
-from sph.schema import apply_overrides
 from sph.study.analysis import oscillation_frequency
-from tests.physics_helpers import run_builtin
+from physics_helpers import run_builtin
 
 DX = 0.8
 STILL_SMALL_TANK = [
@@ -43,8 +41,8 @@ def _keel_coords(sim, group):
 def test_intact_ship_floats_at_its_draught_and_keeps_its_cargo():
     """Intact ship with cargo at eta = 0.5 released at its draught: it stays there (heave
     within 2 % of d), stays upright, the cargo keeps its level and no sea enters the hull."""
-    cfg = build_case(apply_overrides(load_defaults("damaged_ship"), STILL_SMALL_TANK + [
-        "geometry.fill=0.5", "geometry.damage.opening=0", "run.t_end=6"]))
+    cfg = builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.fill=0.5", "geometry.damage.opening=0", "run.t_end=6"])
     sim = Simulation(cfg)
     p = sim.parts
     cargo0 = int(np.sum((p.kind == 0) & (p.comp == 1)))

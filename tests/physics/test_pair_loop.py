@@ -16,15 +16,13 @@ equal and opposite, so they leave the fluid's momentum unchanged.
 import numpy as np
 import pytest
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.driver import Simulation
 from sph.engine.fluid import interact
 from sph.engine.kernels import f_r2, w_given_f, w_r2
 from sph.engine.neighbours import CellGrid
 from sph.engine.opening import passable, wall_hidden
 from sph.engine.shifting import PACKED, PACKED_RAMP, R_ANTI, SURFACE_DIVR, shift_params
-from sph.schema import apply_overrides
 
 RTOL = 1e-10
 
@@ -35,9 +33,9 @@ def patch():
     next to the opening mirrored into the cabin (as if it had begun to flood) and the fluid
     within 2 m of the highest particle drawn towards it (packed at the surface),
     re-sorted."""
-    cfg = build_case(apply_overrides(load_defaults("damaged_ship"), [
+    cfg = builtin("damaged_ship", [
         ("numerics.dx", 0.8), ("numerics.threads", 2),
-        ("geometry.damage.time_periods", 0.001)]))
+        ("geometry.damage.time_periods", 0.001)])
     sim = Simulation(cfg)
     sim.evaluate()
     for _ in range(20):

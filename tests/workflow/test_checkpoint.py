@@ -26,8 +26,7 @@ import pytest
 import xarray as xr
 from physics_helpers import assert_same_series
 
-from sph.cases import build_case
-from sph.cases.base import load_defaults
+from sph.cases import builtin
 from sph.cli import main
 from sph.driver import RunInterrupted, Simulation
 from sph.io.checkpoint import (
@@ -43,9 +42,9 @@ from sph.io.checkpoint import (
     write_checkpoint,
 )
 from sph.io.output import OutputWriteError, read_dataset
-from sph.schema import ConfigError, apply_overrides
+from sph.schema import ConfigError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # Tiny versions of the cases (a few hundred to two thousand particles, about a second each).
 TINY = {
@@ -80,7 +79,7 @@ TINY = {
 
 def _cfg(name, extra=()):
     case, overrides = TINY[name]
-    return build_case(apply_overrides(load_defaults(case), list(overrides) + list(extra)))
+    return builtin(case, list(overrides) + list(extra))
 
 
 _REFERENCE: dict[str, Simulation] = {}

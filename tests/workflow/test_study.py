@@ -13,7 +13,7 @@ from sph.io.output import build_dataset, write_netcdf_atomic
 from sph.schema import ConfigError
 from sph.study import sweeps as study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _config(**changes):

@@ -34,9 +34,8 @@ import pytest
 from physics_helpers import run_builtin
 
 from sph.bodies.wavemaker import flap_wave_amplitude, group_velocity
-from sph.cases import build_case
-from sph.cases.base import load_defaults
-from sph.schema import ConfigError, apply_overrides
+from sph.cases import builtin
+from sph.schema import ConfigError
 from sph.study.analysis import (
     flap_wave_record,
     harmonic_fit,
@@ -143,7 +142,7 @@ def test_signalling_solution_refuses_uneven_sampling():
 
 
 def _wave_tank(overrides):
-    return build_case(apply_overrides(load_defaults("wave_tank"), overrides))
+    return builtin("wave_tank", overrides)
 
 
 @pytest.mark.parametrize("overrides, key, words", [

@@ -9,7 +9,7 @@ import math
 import pytest
 import yaml
 
-from sph.cases import CASES, build_case, load_case
+from sph.cases import CASES, build_case, builtin, load_case
 from sph.cases.base import example_text, load_defaults
 from sph.engine.config import CaseConfig, Run
 from sph.schema import ConfigError, apply_overrides, build, parse_override
@@ -18,7 +18,7 @@ RANGE_MARKERS = ("in (", "in [", "one of")
 
 
 def _build(case, overrides=()):
-    return build_case(apply_overrides(load_defaults(case), overrides))
+    return builtin(case, overrides)
 
 
 # --------------------------------------------------------------------------- bad input

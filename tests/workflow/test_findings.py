@@ -224,7 +224,7 @@ def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, monkeypatch):
 
     import matplotlib.pyplot as plt
 
-    script = Path(__file__).resolve().parents[1] / "workflow" / "scripts" / "fig_ship.py"
+    script = Path(__file__).resolve().parents[2] / "workflow" / "scripts" / "fig_ship.py"
     spec = importlib.util.spec_from_file_location("fig_ship", script)
     fig_ship = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(fig_ship)

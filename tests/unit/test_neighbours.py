@@ -244,7 +244,7 @@ _NONFINITE_SCRIPT = textwrap.dedent("""
 def test_nonfinite_particles_are_counted(bx, bz):
     """A NaN or infinite position counts as outside, and the sort stays memory safe. Run in
     a child process: a failure here may be a crash, which must not take pytest down."""
-    root = str(Path(__file__).resolve().parent.parent)
+    root = str(Path(__file__).resolve().parents[2])
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(
         [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
     proc = subprocess.run([sys.executable, "-c", _NONFINITE_SCRIPT, bx, bz], env=env,
