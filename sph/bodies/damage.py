@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from sph.engine.opening import centre, group_of, keep_sides, place_centre, set_centre, set_open
+from sph.engine.particles import FLUID
 
 log = logging.getLogger(__name__)
 
@@ -106,7 +107,7 @@ class DamageOpening:
 
 def fluid_volume(m, rho, kind, comp, c) -> float:
     """Volume (m2 per unit length) of the fluid in compartment ``c``."""
-    sel = (kind == 0) & (comp == c)
+    sel = (kind == FLUID) & (comp == c)
     return float(np.sum(m[sel] / rho[sel]))
 
 

@@ -52,6 +52,7 @@ from sph.cases.geometry import fit_cells, n_wall_layers
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
 from sph.engine.opening import pack_opening, sdf_many, set_circle
+from sph.engine.particles import FLUID
 from sph.engine.probes import surface_heights
 from sph.schema import ConfigError, spec
 
@@ -412,7 +413,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         def height(p):
             kin = motions[n_seg + s].kinematics()
             sel = p.comp == 2 * s + 1  # the cabin's fluid and the walls that face it
-            if not np.any(p.kind[sel] == 0):
+            if not np.any(p.kind[sel] == FLUID):
                 return 0.0
             xz = np.column_stack([p.x[sel], p.z[sel]])
             u, w = _to_keel(xz, hull.kg, kin[:2], kin[2])

@@ -12,6 +12,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.particles import FLUID
 
 
 @njit(**JIT)
@@ -36,9 +37,9 @@ def tait_density(p, rho0, b_coef, gamma):
 
 @njit(**JIT_PARALLEL)
 def fluid_pressures(rho, kind, p, rho0, b_coef, gamma):
-    """Fill ``p`` for fluid particles (``kind == 0``)."""
+    """Fill ``p`` for fluid particles (``kind == FLUID``)."""
     for i in prange(rho.shape[0]):
-        if kind[i] == 0:
+        if kind[i] == FLUID:
             p[i] = tait_pressure(rho[i], rho0, b_coef, gamma)
 
 

@@ -30,6 +30,7 @@ from numba import prange
 from sph.engine.jit import JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
 from sph.engine.opening import passable, wall_hidden
+from sph.engine.particles import FLUID
 
 
 @njit(**JIT_PARALLEL)
@@ -38,7 +39,7 @@ def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, ou
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):
-        if kind[i] != 0:
+        if kind[i] != FLUID:
             out[i] = rho[i]
             continue
         xi = x[i]
@@ -54,7 +55,7 @@ def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, ou
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max:
                     continue
-                if kind[j] == 0:
+                if kind[j] == FLUID:
                     if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
                                                       kin):
                         continue
@@ -93,7 +94,7 @@ def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start,
     for i in prange(n):
         grx[i] = 0.0
         grz[i] = 0.0
-        if kind[i] != 0:
+        if kind[i] != FLUID:
             continue
         xi = x[i]
         zi = z[i]
@@ -104,7 +105,7 @@ def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start,
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != 0 or j == i:
+                if kind[j] != FLUID or j == i:
                     continue
                 dx = xi - x[j]
                 dz = zi - z[j]

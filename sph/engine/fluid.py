@@ -55,6 +55,7 @@ from numba import prange
 from sph.engine.jit import JIT_PARALLEL, njit
 from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
 from sph.engine.opening import passable, wall_hidden
+from sph.engine.particles import FLUID
 from sph.engine.shifting import SH_COEF, shift_vector
 
 
@@ -91,7 +92,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     use_ddt = ddt_rho != 0.0
     use_shift = shift[SH_COEF] != 0.0
     for i in prange(n):
-        if kind[i] != 0:
+        if kind[i] != FLUID:
             continue
         xi = x[i]
         zi = z[i]
@@ -115,7 +116,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max or j == i:
                     continue
-                if kind[j] == 0:
+                if kind[j] == FLUID:
                     if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
                                                       kin):
                         continue
@@ -128,11 +129,11 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                 dvz = vzi - vz[j]
                 vr = dvx * dx + dvz * dz
                 div += vj * vr * fw
-                if kind[j] == 0:
+                if kind[j] == FLUID:
                     coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
                 else:  # a wall pushes and never pulls: fluid tension does not count
                     coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
-                if kind[j] == 0:
+                if kind[j] == FLUID:
                     coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
                     if use_ddt:
                         rho_h = -ddt_rho * (gx * dx + gz * dz)

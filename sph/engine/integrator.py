@@ -28,6 +28,7 @@ from numba import prange
 
 from sph.engine.absorber import AB_FORM, sigma
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.particles import FLUID
 
 
 @njit(**JIT)
@@ -36,7 +37,7 @@ def max_speed_accel(vx, vz, ax, az, kind):
     v2 = 0.0
     a2 = 0.0
     for i in range(vx.shape[0]):
-        if kind[i] != 0:
+        if kind[i] != FLUID:
             continue
         s = vx[i] * vx[i] + vz[i] * vz[i]
         if s > v2:
@@ -67,7 +68,7 @@ def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind
     half_dt2 = 0.5 * dt * dt
     dt_eff = dt if euler else 2.0 * dt
     for i in prange(x.shape[0]):
-        if kind[i] != 0:
+        if kind[i] != FLUID:
             continue
         x[i] += dt * vx[i] + half_dt2 * ax[i]
         z[i] += dt * vz[i] + half_dt2 * az[i]

@@ -48,6 +48,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.particles import FLUID
 
 # slots of ``op`` (module docstring)
 OP_OPEN = 0
@@ -268,7 +269,7 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
     st = math.sin(kin[g, 2])
     for i in prange(x.shape[0]):
         ci = comp[i]
-        if kind[i] != 0 or (ci != a and ci != b):
+        if kind[i] != FLUID or (ci != a and ci != b):
             continue
         u, w = keel_frame(x[i], z[i], op, kin)
         d = sdf(u, w, s)

@@ -16,6 +16,7 @@ import numpy as np
 
 from sph.engine.jit import JIT, njit
 from sph.engine.kernels import KP_R2MAX, w_r2
+from sph.engine.particles import FLUID
 
 
 @njit(**JIT)
@@ -37,7 +38,7 @@ def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz, wall_
         nc = 0
         ztop = -1.0e300
         for j in range(n):
-            if (kind[j] == 0 and (cfilter < 0 or comp[j] == cfilter)
+            if (kind[j] == FLUID and (cfilter < 0 or comp[j] == cfilter)
                     and abs(x[j] - xp[k]) < radius):
                 cand[nc] = j
                 nc += 1
@@ -50,7 +51,7 @@ def surface_heights(x, z, m, rho, kind, comp, cfilter, xp, kp, zfloor, dz, wall_
         nw = 0
         if wall_fill:
             for j in range(n):
-                if (kind[j] != 0 and (cfilter < 0 or comp[j] == cfilter)
+                if (kind[j] != FLUID and (cfilter < 0 or comp[j] == cfilter)
                         and abs(x[j] - xp[k]) < radius):
                     wcand[nw] = j
                     nw += 1
@@ -89,7 +90,7 @@ def point_pressures(x, z, m, rho, p, kind, xp, zp, kp, gx, gz):
         sw = 0.0
         sp = 0.0
         for j in range(x.shape[0]):
-            if kind[j] != 0:
+            if kind[j] != FLUID:
                 continue
             dx = xp[k] - x[j]
             dz = zp[k] - z[j]

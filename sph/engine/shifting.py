@@ -46,6 +46,7 @@ from numba import prange
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
 from sph.engine.opening import passable, wall_hidden
+from sph.engine.particles import FLUID
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
 R_ANTI = 0.2
@@ -108,7 +109,7 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, n
             r2 = dx * dx + dz * dz
             if r2 >= r2max or j == i:
                 continue
-            if kind[j] == 0:
+            if kind[j] == FLUID:
                 if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
                     continue
             elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
@@ -142,6 +143,6 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, n
 @njit(**JIT_PARALLEL)
 def apply_shift(x, z, sx, sz, kind):
     for i in prange(x.shape[0]):
-        if kind[i] == 0:
+        if kind[i] == FLUID:
             x[i] += sx[i]
             z[i] += sz[i]

@@ -30,6 +30,7 @@ from sph.engine.eos import tait_density
 from sph.engine.jit import JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
 from sph.engine.opening import wall_hidden
+from sph.engine.particles import FLUID, WALL
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
 
@@ -46,7 +47,7 @@ def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
     Group 0 (the fixed tank) is left untouched."""
     for i in prange(x.shape[0]):
         b = body[i]
-        if kind[i] != 1 or b == 0:
+        if kind[i] != WALL or b == 0:
             continue
         ct = math.cos(kin[b, 2])
         st = math.sin(kin[b, 2])
@@ -71,7 +72,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):
-        if kind[i] != 1:
+        if kind[i] != WALL:
             continue
         b = body[i]
         xi = x[i]
@@ -90,7 +91,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != 0 or comp[j] != ci:
+                if kind[j] != FLUID or comp[j] != ci:
                     continue
                 dx = xi - x[j]
                 dz = zi - z[j]
@@ -122,7 +123,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):
-        if kind[i] != 1 or body[i] == 0:
+        if kind[i] != WALL or body[i] == 0:
             continue
         xi = x[i]
         zi = z[i]
@@ -134,7 +135,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != 0 or comp[j] != ci:
+                if kind[j] != FLUID or comp[j] != ci:
                     continue
                 dx = xi - x[j]
                 dz = zi - z[j]
@@ -153,7 +154,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
     fz[:] = 0.0
     mom[:] = 0.0
     for i in range(n):
-        if kind[i] == 1 and body[i] > 0:
+        if kind[i] == WALL and body[i] > 0:
             b = body[i]
             fx[b] += pf[i, 0]
             fz[b] += pf[i, 1]
