@@ -39,7 +39,8 @@ log = logging.getLogger(__name__)
 
 
 class HullGuard:
-    """Keeps the fluid of each hull segment on its side of the plating (:func:`sph.engine.opening.keep_sides`);
+    """Keeps the fluid of each hull segment on its side of the plating
+    (:func:`sph.engine.opening.keep_sides`);
     applied at every evaluation, after the walls are placed and any opening has appeared.
 
     Parameters
@@ -86,7 +87,7 @@ class DamageOpening:
     def apply(self, sim) -> None:
         """Open at ``t1`` (once); called at every evaluation, after the walls are placed
         (the compartments of the particles passing the opening are kept up to date by
-        :class:`HullGuard`). Places the opening's centre (the quick-test circle's centre) at the current
+        :class:`HullGuard`). Places the opening's quick-test circle at the current
         kinematics."""
         place_centre(self.params, sim.kin[group_of(self.params)])
         if not self.is_open and sim.t >= self.time - 1e-12 * max(1.0, self.time):

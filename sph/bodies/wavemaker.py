@@ -132,8 +132,8 @@ def load_flap_file(path: str, key: str = "file") -> np.ndarray:
 class FlapMotion:
     """Prescribed rotation of the flap's wall group about the hinge (0, 0).
 
-    :meth:`kinematics` returns the row of :data:`sph.engine.walls.KIN_COLUMNS`; the engine's angle is
-    counter-clockwise, so it is :math:`-\\theta`.
+    :meth:`kinematics` returns the row of :data:`sph.engine.walls.KIN_COLUMNS`; the
+    engine's angle is counter-clockwise, so it is :math:`-\\theta`.
     """
 
     def __init__(self, cfg: FlapConfig, depth: float, g: float = 9.81):

@@ -27,10 +27,10 @@ from sph.schema import ConfigError, spec
 
 @dataclass(frozen=True)
 class Geometry:
-    tank_length: float = spec(4.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    tank_height: float = spec(3.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    column_width: float = spec(1.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    column_height: float = spec(2.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    column_width: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    column_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
 
     def check(self, key):
         if self.column_width >= self.tank_length:

@@ -10,7 +10,7 @@ heave free decay). The wavemaker may be driven by the experiment's flap file.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,22 +34,22 @@ from sph.schema import ConfigError, spec
 
 @dataclass(frozen=True)
 class Geometry:
-    depth: float = spec(0.4, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    tank_length: float = spec(6.0, lo=0.0, lo_open=True, hi=1.0e5, unit="m")
-    tank_height: float = spec(0.6, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    box_width: float = spec(0.1, lo=0.0, lo_open=True, hi=1.0e3, unit="m")
-    box_height: float = spec(0.05, lo=0.0, lo_open=True, hi=1.0e3, unit="m")
-    box_x: float = spec(2.11, lo=0.0, hi=1.0e5, unit="m", doc="x of the box centre")
-    box_density: float = spec(680.0, lo=1.0, hi=1.0e5, unit="kg/m3",
+    depth: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e5, unit="m")
+    tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    box_width: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m")
+    box_height: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m")
+    box_x: float = spec(lo=0.0, hi=1.0e5, unit="m", doc="x of the box centre")
+    box_density: float = spec(lo=1.0, hi=1.0e5, unit="kg/m3",
                               doc="below rho0 for the box to float")
-    box_inertia: float | None = spec(None, lo=0.0, lo_open=True, hi=1.0e9, unit="kg m",
+    box_inertia: float | None = spec(lo=0.0, lo_open=True, hi=1.0e9, unit="kg m",
                                      doc="roll inertia per unit length about the centre of "
-                                     "gravity; default: homogeneous box m (w^2 + h^2) / 12")
-    heave_offset: float = spec(0.0, lo=-1.0e3, hi=1.0e3, unit="m",
+                                     "gravity; null: homogeneous box m (w^2 + h^2) / 12")
+    heave_offset: float = spec(lo=-1.0e3, hi=1.0e3, unit="m",
                                doc="initial displacement from the hydrostatic position")
-    dofs: DofConfig = field(default_factory=DofConfig)
-    wavemaker: FlapConfig = field(default_factory=FlapConfig)
-    absorber: AbsorberConfig = field(default_factory=AbsorberConfig)
+    dofs: DofConfig
+    wavemaker: FlapConfig
+    absorber: AbsorberConfig
 
 
 def defaults() -> dict:

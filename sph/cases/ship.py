@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -61,37 +61,40 @@ log = logging.getLogger(__name__)
 SIDES = {"back": 1.0, "head": -1.0}
 
 
+# The sections below declare each key's type, allowed range and meaning; their values (the
+# defaults of a built-in case) are stated once, in the case's YAML (damaged_ship.yaml,
+# ship_decay.yaml), which sph.cases.build_case merges under the user's file.
 @dataclass(frozen=True)
 class DamageConfig:
     """The side opening of the middle cabin."""
 
-    opening: float = spec(10 / 21, lo=0.0, hi=1.0, doc="delta_bar = delta / d (0: intact)")
-    side: str = spec("back", choices=tuple(SIDES),
+    opening: float = spec(lo=0.0, hi=1.0, doc="delta_bar = delta / d (0: intact)")
+    side: str = spec(choices=tuple(SIDES),
                      doc="back: faces +x, away from the wavemaker; head: faces the waves")
-    time_periods: float = spec(3.18, lo=0.0, hi=1.0e4, doc="t1 in wave periods 2 pi / omega")
+    time_periods: float = spec(lo=0.0, hi=1.0e4, doc="t1 in wave periods 2 pi / omega")
 
 
 @dataclass(frozen=True)
 class Geometry:
-    depth: float = spec(30.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth H")
-    tank_length: float = spec(150.0, lo=0.0, lo_open=True, hi=1.0e5, unit="m")
-    tank_height: float = spec(40.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-    ship_x: float = spec(60.0, lo=0.0, hi=1.0e5, unit="m", doc="x of the ship's centre line")
-    hull: HullConfig = field(default_factory=HullConfig)
-    fill: float = spec(0.0, lo=0.0, hi=1.0, hi_open=True,
+    depth: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth H")
+    tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e5, unit="m")
+    tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+    ship_x: float = spec(lo=0.0, hi=1.0e5, unit="m", doc="x of the ship's centre line")
+    hull: HullConfig
+    fill: float = spec(lo=0.0, hi=1.0, hi_open=True,
                        doc="cargo fill ratio eta = h_w / D of the intact cabins")
-    cargo_density: float = spec(1000.0, lo=1.0, hi=1.0e5, unit="kg/m3")
-    intact_cabins: int = spec(2, lo=1, hi=100, doc="cabins the intact segment stands for")
-    damaged_cabins: int = spec(1, lo=0, hi=100, doc="cabins the damaged segment stands for "
+    cargo_density: float = spec(lo=1.0, hi=1.0e5, unit="kg/m3")
+    intact_cabins: int = spec(lo=1, hi=100, doc="cabins the intact segment stands for")
+    damaged_cabins: int = spec(lo=0, hi=100, doc="cabins the damaged segment stands for "
                                "(0: simulate the intact segment only)")
-    damage: DamageConfig = field(default_factory=DamageConfig)
-    heel: float = spec(0.0, lo=-30.0, hi=30.0, unit="degree",
+    damage: DamageConfig
+    heel: float = spec(lo=-30.0, hi=30.0, unit="degree",
                        doc="initial heel, positive towards +x (free decay)")
-    heave_offset: float = spec(0.0, lo=-1.0e3, hi=1.0e3, unit="m",
+    heave_offset: float = spec(lo=-1.0e3, hi=1.0e3, unit="m",
                                doc="initial displacement from the hydrostatic position")
-    dofs: DofConfig = field(default_factory=DofConfig)
-    wavemaker: FlapConfig = field(default_factory=FlapConfig)
-    absorber: AbsorberConfig = field(default_factory=AbsorberConfig)
+    dofs: DofConfig
+    wavemaker: FlapConfig
+    absorber: AbsorberConfig
 
 
 # ------------------------------------------------------------------------------ checks

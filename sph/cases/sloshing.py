@@ -105,13 +105,13 @@ class Rect:
 
     @dataclass(frozen=True)
     class Geometry:
-        tank_length: float = spec(1.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-        tank_height: float = spec(1.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m")
-        fill: float = spec(0.5, lo=0.0, lo_open=True, hi=1.0, hi_open=True,
+        tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+        tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m")
+        fill: float = spec(lo=0.0, lo_open=True, hi=1.0, hi_open=True,
                            doc="fill ratio: still depth / tank height")
-        amplitude: float = spec(0.01, lo=0.0, hi=1.0e3, unit="m",
+        amplitude: float = spec(lo=0.0, hi=1.0e3, unit="m",
                                 doc="initial free-surface amplitude at the walls")
-        init: str = spec("velocity", choices=("velocity", "tilt"),
+        init: str = spec(choices=("velocity", "tilt"),
                          doc="first-mode velocity field or tilted free surface")
 
     @staticmethod
@@ -135,17 +135,17 @@ class UTank:
 
     @dataclass(frozen=True)
     class Geometry:
-        width: float = spec(16.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m",
+        width: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m",
                             doc="inner breadth B")
-        height: float = spec(8.5, lo=0.0, lo_open=True, hi=1.0e4, unit="m",
+        height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m",
                              doc="inner depth D")
-        bilge_radius: float = spec(2.0, lo=0.0, hi=1.0e4, unit="m",
+        bilge_radius: float = spec(lo=0.0, hi=1.0e4, unit="m",
                                    doc="radius of the rounded bilges")
-        fill: float = spec(0.5, lo=0.0, lo_open=True, hi=1.0, hi_open=True,
+        fill: float = spec(lo=0.0, lo_open=True, hi=1.0, hi_open=True,
                            doc="fill ratio eta: liquid height h_w = eta D")
-        amplitude: float = spec(0.1, lo=0.0, hi=1.0e3, unit="m",
+        amplitude: float = spec(lo=0.0, hi=1.0e3, unit="m",
                                 doc="initial free-surface amplitude at the walls")
-        init: str = spec("tilt", choices=("velocity", "tilt"))
+        init: str = spec(choices=("velocity", "tilt"))
 
         def check(self, key):
             if self.bilge_radius > min(self.width / 2, self.height):

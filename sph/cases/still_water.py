@@ -19,10 +19,10 @@ from sph.schema import ConfigError, spec
 
 @dataclass(frozen=True)
 class Geometry:
-    tank_length: float = spec(2.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m",
+    tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m",
                               doc="inner length of the tank")
-    depth: float = spec(1.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth")
-    tank_height: float = spec(1.5, lo=0.0, lo_open=True, hi=1.0e4, unit="m",
+    depth: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth")
+    tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m",
                               doc="height of the side walls")
 
     def check(self, key):

@@ -31,15 +31,13 @@ from sph.schema import ConfigError, spec
 
 @dataclass(frozen=True)
 class Geometry:
-    depth: float = spec(30.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth H")
-    tank_length: float = spec(150.0, lo=0.0, lo_open=True, hi=1.0e5, unit="m",
+    depth: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m", doc="water depth H")
+    tank_length: float = spec(lo=0.0, lo_open=True, hi=1.0e5, unit="m",
                               doc="from the flap hinge to the end wall")
-    tank_height: float = spec(40.0, lo=0.0, lo_open=True, hi=1.0e4, unit="m",
+    tank_height: float = spec(lo=0.0, lo_open=True, hi=1.0e4, unit="m",
                               doc="height of the flap and of the end wall")
-    wavemaker: FlapConfig = field(default_factory=FlapConfig,
-                                  metadata=dict(doc="flap wavemaker"))
-    absorber: AbsorberConfig = field(default_factory=AbsorberConfig,
-                                     metadata=dict(doc="damping zone"))
+    wavemaker: FlapConfig = field(metadata=dict(doc="flap wavemaker"))
+    absorber: AbsorberConfig = field(metadata=dict(doc="damping zone"))
 
     def check(self, key):
         if self.depth >= self.tank_height:

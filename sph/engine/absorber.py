@@ -110,4 +110,5 @@ def sigma(x, vx, ab):
         return 0.0
     if ab[AB_FORM] == 1.0 and vx >= 0.0:
         return 0.0
-    return ab[AB_SPEED] / ab[AB_LENGTH] * (x - ab[AB_START]) / max(ab[AB_START] + ab[AB_LENGTH] - x + ab[AB_DX], ab[AB_DX])
+    return ab[AB_SPEED] / ab[AB_LENGTH] * (x - ab[AB_START]) / max(
+        ab[AB_START] + ab[AB_LENGTH] - x + ab[AB_DX], ab[AB_DX])

@@ -18,9 +18,9 @@ Discrete forms of Cao et al. (2019):
 
 with :math:`c_i = c_j = c_0`. Against a wall particle the fluid pressure enters as
 :math:`\max(P_i, 0)` (and the wall's own extrapolated pressure is clamped at zero,
-:func:`sph.engine.walls.wall_pressure`): a wall pushes and never pulls, so fluid in tension (a vortex
-core reaching the tank floor under a rolling hull) cannot be drawn through the wall layers.
-The optional delta-SPH diffusive term (second source paper,
+:func:`sph.engine.walls.wall_pressure`): a wall pushes and never pulls, so fluid in tension
+(a vortex core reaching the tank floor under a rolling hull) cannot be drawn through the wall
+layers. The optional delta-SPH diffusive term (second source paper,
 Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid particles:
 
 .. math::

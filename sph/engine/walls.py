@@ -67,8 +67,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
     its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
-    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in tension
-    would attract the fluid through itself."""
+    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
+    tension would attract the fluid through itself."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):

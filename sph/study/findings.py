@@ -5,6 +5,11 @@ numbers are measured from the gathered dataset (:func:`sph.study.sweeps.gather`)
 the statement says. A finding whose cases are not in the sweep, or whose time window is not
 covered by the runs, is reported as not determinable rather than guessed.
 
+The findings are the table :data:`FINDINGS`: one :class:`FindingSpec` per finding (id,
+statement, paper section, the group of cases it compares and what it needs of them, whether
+it is measured after t2, a measure and a test), evaluated in order by
+:func:`compute_findings`. A new finding is one more record.
+
 Measures (``T`` the wave period, ``t1`` the damage time, ``t2`` the start of the dynamic
 equilibrium, ``t2_periods * T``):
 
@@ -19,7 +24,7 @@ equilibrium, ``t2_periods * T``):
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -199,8 +204,314 @@ def _decreasing(values: Sequence[float]) -> bool:
     return all(b < a for a, b in zip(values, values[1:], strict=False))
 
 
+# ------------------------------------------------------------------------------ cases
+class _Cases:
+    """The cases of a sweep that the findings compare, from its groups
+    (:func:`sph.study.sweeps.groups`), each list in the group's order."""
+
+    def __init__(self, s: _Sweep, groups: Mapping[str, Sequence[str]]):
+        par = s.cases
+        self.opening = list(groups.get("opening", []))
+        self.damaged = [c for c in self.opening if par[c]["opening"] > 0]
+        self.intact = [c for c in self.opening if par[c]["opening"] == 0]
+        side = list(groups.get("side", []))
+        self.heads = [c for c in side if par[c]["side"] == "head" and par[c]["opening"] > 0]
+        self.backs = [c for c in side if par[c]["side"] == "back" and par[c]["opening"] > 0]
+        self.fill = list(groups.get("fill", []))
+        self.half = [c for c in self.fill if abs(par[c]["fill"] - 0.5) < 1e-6]
+        self.filled = [c for c in self.fill if par[c]["fill"] > 0]
+        self.amps = [c for c in groups.get("amplitude", []) if par[c]["opening"] > 0]
+        self.still = [c for c in self.amps if par[c]["amplitude"] == 0.0]
+        self.waves = [c for c in self.amps if par[c]["amplitude"] > 0.0]
+
+    # selections: the cases a finding measures, or [] when the sweep lacks them
+    def intact_and_damaged(self) -> list[str]:
+        """The intact case first, then every damaged one."""
+        return self.intact[:1] + self.damaged if self.intact and self.damaged else []
+
+    def openings(self) -> list[str]:
+        """Two or more damaged cases (opening sizes)."""
+        return self.damaged if len(self.damaged) >= 2 else []
+
+    def any_damaged(self) -> list[str]:
+        return self.damaged
+
+    def back_and_head(self) -> list[str]:
+        """The back-side case, then the head-side one."""
+        return self.backs[:1] + self.heads[:1] if self.heads and self.backs else []
+
+    def sides_or_damaged(self) -> list[str]:
+        """The back- and head-side cases that exist, else the first damaged case."""
+        return self.backs[:1] + self.heads[:1] if (self.heads or self.backs) else self.damaged[:1]
+
+    def fills_with_half(self) -> list[str]:
+        return self.fill if len(self.fill) >= 3 and self.half else []
+
+    def fills(self) -> list[str]:
+        return self.fill if len(self.fill) >= 2 else []
+
+    def cargo_fills(self) -> list[str]:
+        return self.filled if len(self.filled) >= 2 else []
+
+    def still_and_waves(self) -> list[str]:
+        """The still-water case first, then every wave case."""
+        return self.still[:1] + self.waves if self.still and self.waves else []
+
+    def amplitudes(self) -> list[str]:
+        return self.amps if len(self.amps) >= 2 else []
+
+
+# ------------------------------------------------------------------------------ measures
+# per case: sweep, case -> number
+def _roll_amplitude(s: _Sweep, c: str) -> float:
+    return amplitude(s.steady(c, "roll"))
+
+
+def _heave_amplitude(s: _Sweep, c: str) -> float:
+    return amplitude(s.steady(c, "heave"))
+
+
+def _heave_mean(s: _Sweep, c: str) -> float:
+    return float(np.nanmean(s.steady(c, "heave")))
+
+
+def _w1_amplitude(s: _Sweep, c: str) -> float:
+    return amplitude(s.steady(c, "probe_elevation", "W1"))
+
+
+def _w2_amplitude(s: _Sweep, c: str) -> float:
+    return amplitude(s.steady(c, "probe_elevation", "W2"))
+
+
+def _inflow(s: _Sweep, c: str) -> float:
+    return inflow_rate(s.t, s.series(c, "flood_volume"), s.t1, s.period)
+
+
+def _fluctuation(s: _Sweep, c: str) -> float:
+    return fluctuation(s.steady(c, "flood_volume"))
+
+
+def _largest_roll(s: _Sweep, c: str) -> float:
+    r = window(s.t, s.series(c, "roll"), s.t1)
+    return float(r[int(np.nanargmax(np.abs(r)))])
+
+
+#: a measure: (sweep, cases) -> (values by case, the "measured" text)
+Measure = Callable[[_Sweep, Sequence[str]], tuple[dict[str, float], str]]
+
+
+def _each(per_case: Callable[[_Sweep, str], float], quantity: str, percent: bool = False,
+          suffix: Callable[[dict[str, float]], str] | None = None) -> Measure:
+    """Measure ``per_case`` on every case: ``quantity: label: value; ...`` (values in percent
+    with ``percent``), then ``suffix(values)``."""
+
+    def measure(s: _Sweep, cases: Sequence[str]):
+        values = {c: per_case(s, c) for c in cases}
+        shown = _fmt({c: 100 * v for c, v in values.items()}, s, " %") if percent \
+            else _fmt(values, s)
+        return values, f"{quantity}: {shown}" + (suffix(values) if suffix else "")
+
+    return measure
+
+
+def _first_peaks(s: _Sweep, cases: Sequence[str]):
+    peaks = {c: first_peak(s.t, s.series(c, "flood_ratio"), s.t1, s.period) for c in cases}
+    text = "; ".join(f"{s.label(c)}: {v:.3g} at t/T = {tp / s.period:.2f}"
+                     for c, (tp, v) in peaks.items())
+    return {c: v for c, (_, v) in peaks.items()}, "first Q/V peak: " + text
+
+
+def _head_over_back(values: Mapping[str, float]) -> float:
+    back, head = values.values()
+    return head / back if back > 0 else math.inf
+
+
+def _heave_ratio_note(values: dict[str, float]) -> str:
+    lo, hi = SLIGHTLY_LARGER
+    return (f"; head / back = {_head_over_back(values):.3f} (slightly larger: "
+            f"{lo:g}-{hi:g})")
+
+
+def _spread(values: Mapping[str, float]) -> tuple[float, float]:
+    """Largest sinkage and spread of the mean heaves."""
+    return (max(abs(v) for v in values.values()),
+            max(values.values()) - min(values.values()))
+
+
+def _spread_note(values: dict[str, float]) -> str:
+    sink, spread = _spread(values)
+    return (f"; spread {spread:.3g} m = {100 * spread / sink:.3g} % of the largest sinkage "
+            f"(the same: at most {100 * SAME_EQUILIBRIUM:g} %)")
+
+
+# ------------------------------------------------------------------------------ tests
+# (values by case in the selection's order, sweep) -> whether the statement holds
+def _first_largest(values, s) -> bool:
+    """Every case after the first below the first."""
+    first, *rest = values
+    return all(values[c] < values[first] for c in rest)
+
+
+def _all_increasing(values, s) -> bool:
+    return _increasing(list(values.values()))
+
+
+def _all_decreasing(values, s) -> bool:
+    return _decreasing(list(values.values()))
+
+
+def _head_larger(values, s) -> bool:
+    back, head = values.values()
+    return head > back
+
+
+def _back_larger(values, s) -> bool:
+    back, head = values.values()
+    return back > head
+
+
+def _away_from_opening(values, s) -> bool:
+    # roll > 0 heels towards +x; a back opening faces +x, a head opening -x
+    ok = True
+    for c, v in values.items():
+        away = -1.0 if s.cases[c]["side"] == "back" else 1.0
+        ok &= v * away > 0
+    return ok
+
+
+def _half_near_minimum(values, s) -> bool:
+    half = next(c for c in values if abs(s.cases[c]["fill"] - 0.5) < 1e-6)
+    return values[half] <= (1.0 + NEAR_MINIMUM) * min(values.values())
+
+
+def _about_ten_percent(values, s) -> bool:
+    lo, hi = FLUCTUATION_BAND
+    return all(lo <= v <= hi for v in values.values())
+
+
+def _slightly_larger(values, s) -> bool:
+    lo, hi = SLIGHTLY_LARGER
+    return lo <= _head_over_back(values) <= hi
+
+
+def _same_equilibrium(values, s) -> bool:
+    sink, spread = _spread(values)
+    return spread <= SAME_EQUILIBRIUM * sink
+
+
+# ------------------------------------------------------------------------------ the table
+@dataclass(frozen=True)
+class FindingSpec:
+    """One finding of the paper and how this project measures it.
+
+    ``cases`` picks the cases to measure from the sweep's groups (the group named by
+    ``group``); an empty pick means the sweep lacks them (``needs`` says what is missing).
+    A finding measured after t2 (``steady``) needs runs to at least t2 + T. ``measure``
+    returns the values by case and the "measured" text; ``test`` says whether the statement
+    holds on those values (NaN values decide nothing)."""
+
+    id: str
+    statement: str
+    paper: str
+    group: str
+    needs: str
+    cases: Callable[[_Cases], list[str]]
+    steady: bool
+    measure: Measure
+    test: Callable[[dict[str, float], _Sweep], bool]
+
+
+_BOTH_SIDES = "the reference opening on both sides"
+_INTACT_DAMAGED = "an intact case and a damaged case at the reference fill"
+_AMPLITUDES = "the reference opening at two or more wave amplitudes"
+
+#: the paper's findings (Sec. IV-V), in the order of the report
+FINDINGS: tuple[FindingSpec, ...] = (
+    FindingSpec(
+        "F1", "The roll amplitude of the damaged ship after t2 is smaller than the intact "
+        "ship's", "Sec. IV B, Fig. 15; Sec. V", "opening", _INTACT_DAMAGED,
+        _Cases.intact_and_damaged, True,
+        _each(_roll_amplitude, "roll amplitude after t2 (deg)"), _first_largest),
+    FindingSpec(
+        "F2", "The first peak of Q/V grows with the opening size", "Sec. IV B, Fig. 13",
+        "opening", "two or more opening sizes", _Cases.openings, False, _first_peaks,
+        _all_increasing),
+    FindingSpec(
+        "F3", "After damage the ship heaves about a lower equilibrium than the intact ship",
+        "Sec. IV B, Fig. 14; Sec. V", "opening", _INTACT_DAMAGED, _Cases.intact_and_damaged,
+        True, _each(_heave_mean, "mean heave after t2 (m)"), _first_largest),
+    FindingSpec(
+        "F4", "The sloshing wave in the damaged cabin (W2) after t2 is lower for larger "
+        "openings", "Sec. IV B, Figs. 11-12", "opening", "two or more opening sizes",
+        _Cases.openings, True, _each(_w2_amplitude, "W2 amplitude after t2 (m)"),
+        _all_decreasing),
+    FindingSpec(
+        "F5", "The initial inflow is faster with the opening facing the waves (head) than "
+        "away from them (back)", "Sec. IV C, Figs. 16-17; Sec. V", "side", _BOTH_SIDES,
+        _Cases.back_and_head, False,
+        _each(_inflow, "mean inflow rate over [t1, t1 + T/2] (m2/s)"), _head_larger),
+    FindingSpec(
+        "F6", "At dynamic equilibrium the ship rolls more with the opening on the back side "
+        "than facing the waves", "Sec. IV C, Fig. 18; Sec. V", "side", _BOTH_SIDES,
+        _Cases.back_and_head, True, _each(_roll_amplitude, "roll amplitude after t2 (deg)"),
+        _back_larger),
+    FindingSpec(
+        "F7", "The largest roll angle after damage is towards the side opposite the opening",
+        "Sec. IV C; Sec. V", "side (else opening)", "a damaged case",
+        _Cases.sides_or_damaged, False,
+        _each(_largest_roll, "largest roll after t1 (deg, + towards the waves' travel)"),
+        _away_from_opening),
+    FindingSpec(
+        "F8", "The roll after t2 is near its minimum at the fill ratio η = 50 %",
+        "Sec. IV D, Fig. 21; Sec. V", "fill", "η = 50 % and at least two other fill ratios",
+        _Cases.fills_with_half, True,
+        _each(_roll_amplitude, "roll amplitude after t2 (deg)",
+              suffix=lambda v: f" (near: within {100 * NEAR_MINIMUM:g} % of the smallest)"),
+        _half_near_minimum),
+    FindingSpec(
+        "F9", "After t2 the flood volume fluctuates by about 10 % of its maximum",
+        "Sec. IV B, Fig. 13", "opening", "a damaged case at the reference fill",
+        _Cases.any_damaged, True,
+        _each(_fluctuation, "(max - min) / max of Q after t2", percent=True,
+              suffix=lambda v: (f" (about 10 %: {100 * FLUCTUATION_BAND[0]:g}-"
+                                f"{100 * FLUCTUATION_BAND[1]:g} %)")),
+        _about_ten_percent),
+    FindingSpec(
+        "F10", "The flood-volume fluctuation decreases as the cargo fill ratio grows",
+        "Sec. IV D, Fig. 23", "fill", "two or more fill ratios", _Cases.fills, True,
+        _each(_fluctuation, "(max - min) / max of Q after t2", percent=True),
+        _all_decreasing),
+    FindingSpec(
+        "F11", "The sloshing wave in the liquid cabins (W1) is lower for larger fill ratios",
+        "Sec. IV D, Fig. 22", "fill", "two or more non-zero fill ratios", _Cases.cargo_fills,
+        True, _each(_w1_amplitude, "W1 amplitude after t2 (m)"), _all_decreasing),
+    FindingSpec(
+        "F12", "The wave direction changes the heave only slightly; the head-wave case "
+        "heaves slightly more", "Sec. IV C, Fig. 19", "side", _BOTH_SIDES,
+        _Cases.back_and_head, True,
+        _each(_heave_amplitude, "heave amplitude after t2 (m)", suffix=_heave_ratio_note),
+        _slightly_larger),
+    # Fig. 10: the reference opening in still water and in waves of several amplitudes
+    FindingSpec(
+        "F13", "The initial inflow is slower in waves than in still water (the wave's and "
+        "the flooding water's heeling moments oppose each other)", "Sec. IV B, Fig. 10(c)",
+        "amplitude", "the reference opening in still water and in waves",
+        _Cases.still_and_waves, False,
+        _each(_inflow, "mean inflow rate over [t1, t1 + T/2] (m2/s)"), _first_largest),
+    FindingSpec(
+        "F14", "Whatever the wave amplitude, the damaged ship heaves about the same new "
+        "equilibrium", "Sec. IV B, Fig. 10(b)", "amplitude", _AMPLITUDES, _Cases.amplitudes,
+        True, _each(_heave_mean, "mean heave after t2 (m)", suffix=_spread_note),
+        _same_equilibrium),
+    FindingSpec(
+        "F15", "The heave amplitude after t2 is set mainly by the wave amplitude: it grows "
+        "with it", "Sec. IV B, Fig. 10(b)", "amplitude", _AMPLITUDES, _Cases.amplitudes,
+        True, _each(_heave_amplitude, "heave amplitude after t2 (m)"), _all_increasing),
+)
+
+
 def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
-    """Measure every finding on the gathered dataset ``ds``.
+    """Measure every finding of :data:`FINDINGS` on the gathered dataset ``ds``.
 
     Parameters
     ----------
@@ -214,225 +525,21 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         Start of the dynamic equilibrium in wave periods.
     """
     s = _Sweep(ds, t2_periods)
-    out = []
-    opening = [c for c in groups.get("opening", [])]
-    damaged = [c for c in opening if s.cases[c]["opening"] > 0]
-    intact = [c for c in opening if s.cases[c]["opening"] == 0]
-    side = list(groups.get("side", []))
-    fill = list(groups.get("fill", []))
+    sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")
-
-    def missing(fid, statement, paper, need):
-        out.append(Finding(fid, statement, paper, f"not in this sweep: {need}", None))
-
-    # F1: damaged roll amplitude after t2 smaller than intact
-    st, pp = ("The roll amplitude of the damaged ship after t2 is smaller than the intact "
-              "ship's", "Sec. IV B, Fig. 15; Sec. V")
-    if not (intact and damaged):
-        missing("F1", st, pp, "an intact case and a damaged case at the reference fill")
-    elif not s.steady_covered:
-        out.append(Finding("F1", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "roll")) for c in intact[:1] + damaged}
-        holds = all(amp[c] < amp[intact[0]] for c in damaged)
-        out.append(_judged("F1", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
-                           holds, amp.values()))
-
-    # F2: first Q/V peak grows with opening size
-    st, pp = "The first peak of Q/V grows with the opening size", "Sec. IV B, Fig. 13"
-    if len(damaged) < 2:
-        missing("F2", st, pp, "two or more opening sizes")
-    else:
-        peaks = {c: first_peak(s.t, s.series(c, "flood_ratio"), s.t1, s.period) for c in damaged}
-        vals = {c: v for c, (_, v) in peaks.items()}
-        text = "; ".join(f"{s.label(c)}: {v:.3g} at t/T = {tp / s.period:.2f}"
-                         for c, (tp, v) in peaks.items())
-        out.append(_judged("F2", st, pp, "first Q/V peak: " + text,
-                           _increasing(list(vals.values())), vals.values()))
-
-    # F3: the damaged ship settles lower than the intact one
-    st, pp = ("After damage the ship heaves about a lower equilibrium than the intact ship",
-              "Sec. IV B, Fig. 14; Sec. V")
-    if not (intact and damaged):
-        missing("F3", st, pp, "an intact case and a damaged case at the reference fill")
-    elif not s.steady_covered:
-        out.append(Finding("F3", st, pp, steady_note, None))
-    else:
-        mean = {c: float(np.nanmean(s.steady(c, "heave"))) for c in intact[:1] + damaged}
-        holds = all(mean[c] < mean[intact[0]] for c in damaged)
-        out.append(_judged("F3", st, pp, "mean heave after t2 (m): " + _fmt(mean, s), holds,
-                           mean.values()))
-
-    # F4: sloshing wave in the damaged cabin smaller for larger openings
-    st, pp = ("The sloshing wave in the damaged cabin (W2) after t2 is lower for larger "
-              "openings", "Sec. IV B, Figs. 11-12")
-    if len(damaged) < 2:
-        missing("F4", st, pp, "two or more opening sizes")
-    elif not s.steady_covered:
-        out.append(Finding("F4", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "probe_elevation", "W2")) for c in damaged}
-        out.append(_judged("F4", st, pp, "W2 amplitude after t2 (m): " + _fmt(amp, s),
-                           _decreasing(list(amp.values())), amp.values()))
-
-    # F5: head-wave initial inflow faster than back-wave
-    heads = [c for c in side if s.cases[c]["side"] == "head" and s.cases[c]["opening"] > 0]
-    backs = [c for c in side if s.cases[c]["side"] == "back" and s.cases[c]["opening"] > 0]
-    st, pp = ("The initial inflow is faster with the opening facing the waves (head) than "
-              "away from them (back)", "Sec. IV C, Figs. 16-17; Sec. V")
-    if not (heads and backs):
-        missing("F5", st, pp, "the reference opening on both sides")
-    else:
-        rate = {c: inflow_rate(s.t, s.series(c, "flood_volume"), s.t1, s.period)
-                for c in backs[:1] + heads[:1]}
-        out.append(_judged("F5", st, pp, "mean inflow rate over [t1, t1 + T/2] (m2/s): "
-                           + _fmt(rate, s), rate[heads[0]] > rate[backs[0]], rate.values()))
-
-    # F6: back-wave roll larger at dynamic equilibrium
-    st, pp = ("At dynamic equilibrium the ship rolls more with the opening on the back side "
-              "than facing the waves", "Sec. IV C, Fig. 18; Sec. V")
-    if not (heads and backs):
-        missing("F6", st, pp, "the reference opening on both sides")
-    elif not s.steady_covered:
-        out.append(Finding("F6", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "roll")) for c in backs[:1] + heads[:1]}
-        out.append(_judged("F6", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s),
-                           amp[backs[0]] > amp[heads[0]], amp.values()))
-
-    # F7: the largest roll after damage is away from the opening
-    st, pp = ("The largest roll angle after damage is towards the side opposite the opening",
-              "Sec. IV C; Sec. V")
-    cand = backs[:1] + heads[:1] if (heads or backs) else damaged[:1]
-    if not cand:
-        missing("F7", st, pp, "a damaged case")
-    else:
-        ext, ok = {}, True
-        for c in cand:
-            r = window(s.t, s.series(c, "roll"), s.t1)
-            ext[c] = float(r[int(np.nanargmax(np.abs(r)))])
-            # roll > 0 heels towards +x; a back opening faces +x, a head opening -x
-            away = -1.0 if s.cases[c]["side"] == "back" else 1.0
-            ok &= ext[c] * away > 0
-        out.append(_judged("F7", st, pp, "largest roll after t1 (deg, + towards the waves' "
-                           "travel): " + _fmt(ext, s), ok, ext.values()))
-
-    # F8: near-minimum roll at fill 50 %
-    st, pp = ("The roll after t2 is near its minimum at the fill ratio η = 50 %",
-              "Sec. IV D, Fig. 21; Sec. V")
-    half = [c for c in fill if abs(s.cases[c]["fill"] - 0.5) < 1e-6]
-    if len(fill) < 3 or not half:
-        missing("F8", st, pp, "η = 50 % and at least two other fill ratios")
-    elif not s.steady_covered:
-        out.append(Finding("F8", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "roll")) for c in fill}
-        low = min(amp.values())
-        out.append(_judged("F8", st, pp, "roll amplitude after t2 (deg): " + _fmt(amp, s)
-                           + f" (near: within {100 * NEAR_MINIMUM:g} % of the smallest)",
-                           amp[half[0]] <= (1.0 + NEAR_MINIMUM) * low, amp.values()))
-
-    # F9: flood-volume fluctuation about 10 % of its maximum
-    st, pp = ("After t2 the flood volume fluctuates by about 10 % of its maximum",
-              "Sec. IV B, Fig. 13")
-    if not damaged:
-        missing("F9", st, pp, "a damaged case at the reference fill")
-    elif not s.steady_covered:
-        out.append(Finding("F9", st, pp, steady_note, None))
-    else:
-        fl = {c: fluctuation(s.steady(c, "flood_volume")) for c in damaged}
-        lo, hi = FLUCTUATION_BAND
-        out.append(_judged("F9", st, pp, "(max - min) / max of Q after t2: "
-                           + _fmt({c: 100 * v for c, v in fl.items()}, s, " %")
-                           + f" (about 10 %: {100 * lo:g}-{100 * hi:g} %)",
-                           all(lo <= v <= hi for v in fl.values()), fl.values()))
-
-    # F10: flood-volume fluctuation decreases with fill ratio
-    st, pp = ("The flood-volume fluctuation decreases as the cargo fill ratio grows",
-              "Sec. IV D, Fig. 23")
-    if len(fill) < 2:
-        missing("F10", st, pp, "two or more fill ratios")
-    elif not s.steady_covered:
-        out.append(Finding("F10", st, pp, steady_note, None))
-    else:
-        fl = {c: fluctuation(s.steady(c, "flood_volume")) for c in fill}
-        out.append(_judged("F10", st, pp, "(max - min) / max of Q after t2: "
-                           + _fmt({c: 100 * v for c, v in fl.items()}, s, " %"),
-                           _decreasing(list(fl.values())), fl.values()))
-
-    # F11: sloshing in the liquid cabins smaller for larger fill ratios
-    st, pp = ("The sloshing wave in the liquid cabins (W1) is lower for larger fill ratios",
-              "Sec. IV D, Fig. 22")
-    filled = [c for c in fill if s.cases[c]["fill"] > 0]
-    if len(filled) < 2:
-        missing("F11", st, pp, "two or more non-zero fill ratios")
-    elif not s.steady_covered:
-        out.append(Finding("F11", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "probe_elevation", "W1")) for c in filled}
-        out.append(_judged("F11", st, pp, "W1 amplitude after t2 (m): " + _fmt(amp, s),
-                           _decreasing(list(amp.values())), amp.values()))
-
-    # F12: heave amplitude slightly larger for the head-wave case
-    st, pp = ("The wave direction changes the heave only slightly; the head-wave case "
-              "heaves slightly more", "Sec. IV C, Fig. 19")
-    if not (heads and backs):
-        missing("F12", st, pp, "the reference opening on both sides")
-    elif not s.steady_covered:
-        out.append(Finding("F12", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "heave")) for c in backs[:1] + heads[:1]}
-        ratio = amp[heads[0]] / amp[backs[0]] if amp[backs[0]] > 0 else math.inf
-        lo, hi = SLIGHTLY_LARGER
-        out.append(_judged("F12", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s)
-                           + f"; head / back = {ratio:.3f} (slightly larger: {lo:g}-{hi:g})",
-                           lo <= ratio <= hi, amp.values()))
-
-    # Fig. 10: the reference opening in still water and in waves of several amplitudes
-    amps = [c for c in groups.get("amplitude", []) if s.cases[c]["opening"] > 0]
-    still = [c for c in amps if s.cases[c]["amplitude"] == 0.0]
-    waves = [c for c in amps if s.cases[c]["amplitude"] > 0.0]
-
-    # F13: the initial inflow is slower in waves than in still water
-    st, pp = ("The initial inflow is slower in waves than in still water (the wave's and the "
-              "flooding water's heeling moments oppose each other)", "Sec. IV B, Fig. 10(c)")
-    if not (still and waves):
-        missing("F13", st, pp, "the reference opening in still water and in waves")
-    else:
-        rate = {c: inflow_rate(s.t, s.series(c, "flood_volume"), s.t1, s.period)
-                for c in still[:1] + waves}
-        out.append(_judged("F13", st, pp, "mean inflow rate over [t1, t1 + T/2] (m2/s): "
-                           + _fmt(rate, s), all(rate[c] < rate[still[0]] for c in waves),
-                           rate.values()))
-
-    # F14: the same heave equilibrium whatever the wave amplitude
-    st, pp = ("Whatever the wave amplitude, the damaged ship heaves about the same new "
-              "equilibrium", "Sec. IV B, Fig. 10(b)")
-    if len(amps) < 2:
-        missing("F14", st, pp, "the reference opening at two or more wave amplitudes")
-    elif not s.steady_covered:
-        out.append(Finding("F14", st, pp, steady_note, None))
-    else:
-        mean = {c: float(np.nanmean(s.steady(c, "heave"))) for c in amps}
-        sink = max(abs(v) for v in mean.values())
-        spread = max(mean.values()) - min(mean.values())
-        out.append(_judged("F14", st, pp, "mean heave after t2 (m): " + _fmt(mean, s)
-                           + f"; spread {spread:.3g} m = {100 * spread / sink:.3g} % of the "
-                           f"largest sinkage (the same: at most {100 * SAME_EQUILIBRIUM:g} %)",
-                           spread <= SAME_EQUILIBRIUM * sink, mean.values()))
-
-    # F15: the heave amplitude follows the wave amplitude
-    st, pp = ("The heave amplitude after t2 is set mainly by the wave amplitude: it grows "
-              "with it", "Sec. IV B, Fig. 10(b)")
-    if len(amps) < 2:
-        missing("F15", st, pp, "the reference opening at two or more wave amplitudes")
-    elif not s.steady_covered:
-        out.append(Finding("F15", st, pp, steady_note, None))
-    else:
-        amp = {c: amplitude(s.steady(c, "heave")) for c in amps}
-        out.append(_judged("F15", st, pp, "heave amplitude after t2 (m): " + _fmt(amp, s),
-                           _increasing(list(amp.values())), amp.values()))
+    out = []
+    for f in FINDINGS:
+        cases = f.cases(sel)
+        if not cases:
+            out.append(Finding(f.id, f.statement, f.paper, f"not in this sweep: {f.needs}",
+                               None))
+        elif f.steady and not s.steady_covered:
+            out.append(Finding(f.id, f.statement, f.paper, steady_note, None))
+        else:
+            values, measured = f.measure(s, cases)
+            out.append(_judged(f.id, f.statement, f.paper, measured, f.test(values, s),
+                               values.values()))
     return out
 
 

@@ -26,7 +26,12 @@ what it names):
 Case table columns: ``case`` (an explicit id, used in file names), ``opening`` (delta_bar =
 delta / d; 0 = intact), ``side`` (``back`` or ``head``), ``fill`` (eta, in [0, 1)), and
 optionally ``amplitude`` (incident wave amplitude over draught, A / d; 0 = still water; default
-10/21) and ``description``. Numbers may be written as fractions (``10/21``).
+the wave of the ``damaged_ship`` case, 2.0 m / 4.2 m = 10/21) and ``description``. Numbers may
+be written as fractions (``10/21``).
+
+The defaults of the ship (draught, opening, side, fill, wave) are those of the built-in case,
+read from ``sph/cases/damaged_ship.yaml`` (:func:`sph.cases.load_defaults`); the validation
+targets and their runs are the table :data:`sph.study.validation.TARGETS`.
 """
 
 from __future__ import annotations
@@ -45,15 +50,24 @@ from sph import __version__
 from sph.cases import build_case, load_defaults
 from sph.io.output import cf_attrs, read_dataset
 from sph.schema import ConfigError
+from sph.study.validation import TARGETS
 
 #: sides of the damage opening
 SIDES = ("back", "head")
-#: validation targets the workflow knows
-VALIDATION_TARGETS = ("wave_tank", "sloshing", "decay", "floating_box", "dam_break")
+#: validation targets the workflow knows (:data:`sph.study.validation.TARGETS`)
+VALIDATION_TARGETS = tuple(TARGETS)
 #: columns of a case table
 CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "description")
-#: Table I's incident wave: A / d = 10/21 (A = 2.0 m at d = 4.2 m)
-DEFAULT_AMPLITUDE = 10.0 / 21.0
+#: the geometry defaults of the ``damaged_ship`` case (sph/cases/damaged_ship.yaml)
+SHIP_DEFAULTS = load_defaults("damaged_ship")["geometry"]
+#: the ship's draught d (m)
+DEFAULT_DRAUGHT = float(SHIP_DEFAULTS["hull"]["draught"])
+#: Table I's incident wave over the draught, A / d = 10/21 (A = 2.0 m at d = 4.2 m)
+DEFAULT_AMPLITUDE = float(SHIP_DEFAULTS["wavemaker"]["amplitude"]) / DEFAULT_DRAUGHT
+#: the reference case's opening delta_bar, side and fill ratio
+DEFAULT_OPENING = float(SHIP_DEFAULTS["damage"]["opening"])
+DEFAULT_SIDE = str(SHIP_DEFAULTS["damage"]["side"])
+DEFAULT_FILL = float(SHIP_DEFAULTS["fill"])
 #: top-level keys of a sweep configuration
 SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference", "t2_periods",
               "validation", "validation_data")
@@ -297,9 +311,10 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
     if not isinstance(ref, Mapping):
         raise ConfigError("reference", f"expected a mapping, got {ref!r}")
     _check_keys(ref, ("opening", "side", "fill", "amplitude"), "reference")
-    cfg["reference"] = check_cases([dict(case="reference", opening=ref.get("opening", 10 / 21),
-                                         side=ref.get("side", "back"),
-                                         fill=ref.get("fill", 0.0),
+    cfg["reference"] = check_cases([dict(case="reference",
+                                         opening=ref.get("opening", DEFAULT_OPENING),
+                                         side=ref.get("side", DEFAULT_SIDE),
+                                         fill=ref.get("fill", DEFAULT_FILL),
                                          amplitude=ref.get("amplitude",
                                                            DEFAULT_AMPLITUDE))])[0]
     cfg["t2_periods"] = _in_range(parse_number(config.get("t2_periods", 7.0), "t2_periods"),
@@ -354,10 +369,9 @@ def check_case_document(doc: Mapping, where: str):
 
 
 def _wave_period(overrides: Mapping[str, Any]) -> float:
-
     omega = overrides.get("geometry.wavemaker.omega")
     if omega is None:
-        omega = load_defaults("damaged_ship")["geometry"]["wavemaker"]["omega"]
+        omega = SHIP_DEFAULTS["wavemaker"]["omega"]
     return 2.0 * math.pi / float(omega)
 
 
@@ -371,7 +385,7 @@ def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
     over["geometry.damage.opening"] = float(row["opening"])
     over["geometry.damage.side"] = row["side"]
     over["geometry.fill"] = float(row["fill"])
-    draught = over.get("geometry.hull.draught", 4.2)
+    draught = over.get("geometry.hull.draught", DEFAULT_DRAUGHT)
     amplitude = float(row["amplitude"]) * float(draught)
     if amplitude > 0.0:
         over["geometry.wavemaker.amplitude"] = round(amplitude, 12)
@@ -389,58 +403,28 @@ def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
 
 def validation_runs(sweep: Mapping, data_dir: str | Path) -> dict[str, dict[str, tuple]]:
     """Runs of the validation targets of the sweep's preset: ``target -> run id ->
-    (engine case, overrides)``."""
+    (engine case, overrides)``, from each target's record in
+    :data:`sph.study.validation.TARGETS` and the preset's section of the same name."""
     p = sweep["preset_settings"]
-    data_dir = Path(data_dir)
-    runs: dict[str, dict[str, tuple]] = {}
-
-    def common(sec):
-        over = dict(sec.get("set") or {})
-        over["numerics.dx"] = parse_number(sec["dx"], "dx") if "dx" in sec else None
-        over["run.t_end"] = parse_number(sec["t_end"], "t_end")
-        if "output_interval" in sec:
-            over["run.output_interval"] = parse_number(sec["output_interval"],
-                                                       "output_interval")
-        return over
-
+    out = {}
     for target in sweep["validation"]:
-        sec = p[target]
-        if target == "wave_tank":
-            amp = parse_number(sec["amplitude"], "wave_tank.amplitude")
-            factors = sorted((parse_number(f, "wave_tank.dx_over_amplitude")
-                              for f in sec["dx_over_amplitude"]), reverse=True)
-            runs[target] = {}
-            for i, f in enumerate(factors, start=1):
-                over = common(sec)
-                over["numerics.dx"] = round(f * amp, 9)
-                over["geometry.wavemaker.amplitude"] = amp
-                over["geometry.wavemaker.theta0"] = None
-                runs[target][f"res{i}"] = ("wave_tank", over)
-        elif target == "sloshing":
-            runs[target] = {}
-            for f in sec["fills"]:
-                fill = parse_number(f, "sloshing.fills")
-                over = common(sec)
-                over["geometry.fill"] = fill
-                runs[target][f"fill{round(100 * fill):02d}"] = ("sloshing_u", over)
-        elif target == "decay":
-            roll = common(sec)
-            roll.update({"geometry.heel": parse_number(sec["heel"], "decay.heel"),
-                         "geometry.heave_offset": 0.0})
-            heave = common(sec)
-            heave.update({"geometry.heel": 0.0, "geometry.dofs.roll": False,
-                          "geometry.heave_offset": parse_number(sec["heave_offset"],
-                                                                "decay.heave_offset")})
-            runs[target] = {"roll": ("ship_decay", roll), "heave": ("ship_decay", heave)}
-        elif target == "floating_box":
-            over = common(sec)
-            over["geometry.wavemaker.file"] = str(data_dir / "hadzic2005" /
-                                                  "CaseFloatingWavesVal_Flap.dat")
-            over["geometry.wavemaker.file_sign"] = -1  # the file's angles count the other way
-            runs[target] = {"box": ("floating_box", over)}
-        elif target == "dam_break":
-            runs[target] = {"front": ("dam_break", common(sec))}
-    return runs
+        runs = TARGETS[target].runs(_parsed(p[target], target), Path(data_dir))
+        out[target] = {run: (TARGETS[target].case, over) for run, over in runs.items()}
+    return out
+
+
+def _parsed(section: Mapping, where: str) -> dict:
+    """A preset section with its numbers (and lists of numbers) parsed; ``set`` as is."""
+    out = {}
+    for k, v in section.items():
+        key = f"{where}.{k}"
+        if k == "set":
+            out[k] = v
+        elif isinstance(v, list):
+            out[k] = [parse_number(x, f"{key}[{i}]") for i, x in enumerate(v)]
+        else:
+            out[k] = parse_number(v, key)
+    return out
 
 
 # ------------------------------------------------------------------------------ groups

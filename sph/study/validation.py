@@ -4,13 +4,21 @@ Each function takes the runs of one target (opened netCDF datasets) and returns 
 ``target, run, quantity, measured, reference, unit, error, source``: ``error`` is the relative
 difference ``measured / reference - 1`` where a reference value exists, or a normalised RMS
 difference for a time series compared with an experiment.
+
+The targets that the workflow runs are the table :data:`TARGETS`: one :class:`Target` per
+target (id, what it compares, the reference, its runs, its metric, the tolerance the
+project's tests ask, its figures). The workflow's rules, ``sph.study.sweeps`` and
+``workflow/scripts/validation_summary.py`` read it; a new target is one more record (and its
+preset section, ``sph.study.sweeps.PRESET_SECTION_KEYS``).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -391,3 +399,159 @@ def dam_break(runs: Mapping[str, object], t_max: float = 0.6) -> list[dict]:
                          float(rel[k]), None, "1", "Koshizuka & Oka (1996)",
                          error=float(rel[k])))
     return rows
+
+
+# ------------------------------------------------------------------------------ the targets
+# Runs of a target: (the preset's section of the target, its numbers parsed, as
+# sph.study.sweeps.validation_runs passes it; the folder of the experimental series) ->
+# run id -> case-file values (dotted keys).
+def _common(sec: Mapping) -> dict:
+    """Case-file values of every run of a target: the preset section's ``set``, ``dx``,
+    ``t_end`` and ``output_interval``."""
+    over = dict(sec.get("set") or {})
+    over["numerics.dx"] = sec["dx"] if "dx" in sec else None
+    over["run.t_end"] = sec["t_end"]
+    if "output_interval" in sec:
+        over["run.output_interval"] = sec["output_interval"]
+    return over
+
+
+def _wave_tank_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``res1``, ``res2``, ...: the wave of amplitude ``amplitude`` at dx = f A for each f of
+    ``dx_over_amplitude``, coarsest first."""
+    amp = sec["amplitude"]
+    factors = sorted(sec["dx_over_amplitude"], reverse=True)
+    runs = {}
+    for i, f in enumerate(factors, start=1):
+        over = _common(sec)
+        over["numerics.dx"] = round(f * amp, 9)
+        over["geometry.wavemaker.amplitude"] = amp
+        over["geometry.wavemaker.theta0"] = None
+        runs[f"res{i}"] = over
+    return runs
+
+
+def _sloshing_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``fillNN``: one run per fill ratio of ``fills`` (NN in percent)."""
+    runs = {}
+    for fill in sec["fills"]:
+        over = _common(sec)
+        over["geometry.fill"] = fill
+        runs[f"fill{round(100 * fill):02d}"] = over
+    return runs
+
+
+def _decay_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``roll``: released with the initial ``heel``; ``heave``: roll locked, released with
+    ``heave_offset``."""
+    roll = _common(sec)
+    roll.update({"geometry.heel": sec["heel"], "geometry.heave_offset": 0.0})
+    heave = _common(sec)
+    heave.update({"geometry.heel": 0.0, "geometry.dofs.roll": False,
+                  "geometry.heave_offset": sec["heave_offset"]})
+    return {"roll": roll, "heave": heave}
+
+
+def _floating_box_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``box``: driven by the experiment's flap signal from ``data_dir``."""
+    over = _common(sec)
+    over["geometry.wavemaker.file"] = str(Path(data_dir) / "hadzic2005" /
+                                          "CaseFloatingWavesVal_Flap.dat")
+    over["geometry.wavemaker.file_sign"] = -1  # the file's angles count the other way
+    return {"box": over}
+
+
+def _dam_break_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``front``: the built-in column."""
+    return {"front": _common(sec)}
+
+
+# metrics of a target in one signature: (datasets by run, steady window (s), data folder)
+def _wave_tank_metric(sets, window, data_dir) -> list[dict]:
+    return wave_tank(sets, window)
+
+
+def _sloshing_metric(sets, window, data_dir) -> list[dict]:
+    return sloshing(sets)
+
+
+def _decay_metric(sets, window, data_dir) -> list[dict]:
+    return decay(sets)
+
+
+def _floating_box_metric(sets, window, data_dir) -> list[dict]:
+    exp = hadzic_series(Path(data_dir) / "hadzic2005" /
+                        "EXP_FloatingWavesVal_Hadzic_et_al_2005.txt")
+    return floating_box(sets, exp)
+
+
+def _dam_break_metric(sets, window, data_dir) -> list[dict]:
+    return dam_break(sets)
+
+
+@dataclass(frozen=True)
+class Target:
+    """One target of the validation ladder that the workflow runs.
+
+    ``runs(section, data_dir)`` gives the case-file values (dotted keys) of each run of the
+    target from the preset's section of the same name (``config/presets.yaml``, numbers
+    parsed), all runs of the built-in ``case``; ``metric(datasets by run, window,
+    data_dir)`` measures them as rows (see the module docstring); ``figures`` are the
+    workflow's figures of the target, ``(file name, script in workflow/scripts/)``.
+    ``tolerance`` is what the project's validation tests ask of this comparison
+    (``docs/validation/``), at the resolution stated there: the workflow reports the errors
+    at its preset and judges nothing."""
+
+    id: str
+    compares: str
+    reference: str
+    case: str
+    runs: Callable[[Mapping, Path], dict[str, dict]]
+    metric: Callable[[Mapping[str, Any], Sequence[float], str | Path], list[dict]]
+    tolerance: str
+    figures: tuple[tuple[str, str], ...]
+
+
+#: the validation targets of the workflow, by id, in the order they are listed and run
+TARGETS: dict[str, Target] = {t.id: t for t in (
+    Target(
+        id="wave_tank",
+        compares="steady wave amplitude and period at WP1 and WP2 at three resolutions; "
+                 "reflection of the absorbing zone and incident amplitude at the flap",
+        reference="linear flap theory (Cao et al. 2019, Sec. III B, Fig. 7)",
+        case="wave_tank", runs=_wave_tank_runs, metric=_wave_tank_metric,
+        tolerance="amplitude 10 % (5 % at dx = 0.2 A), period 1 %, reflection below 5 %",
+        figures=(("fig07_wave_tank", "fig_wave_tank"),
+                 ("fig_wave_profile", "fig_wave_profile"))),
+    Target(
+        id="sloshing",
+        compares="first sloshing frequency of the U-shaped cabin at the fills of Table II",
+        reference="Cao et al. (2019), Table II",
+        case="sloshing_u", runs=_sloshing_runs, metric=_sloshing_metric,
+        tolerance="5 % of Table II (dx = 0.2 m)",
+        figures=(("fig_sloshing", "fig_sloshing"),)),
+    Target(
+        id="decay",
+        compares="roll and heave natural frequencies (and damping) of the intact ship",
+        reference="Cao et al. (2019), Table II",
+        case="ship_decay", runs=_decay_runs, metric=_decay_metric,
+        tolerance="roll 5 % of Table II; heave none (a 2-D section, docs/validation/"
+                  "ship_decay.md)",
+        figures=(("fig_decay", "fig_decay"),)),
+    Target(
+        id="floating_box",
+        compares="wave probes, heave, roll and sway of the box in the experiment's wave "
+                 "group: amplitude ratio, lag, correlation, RMS difference",
+        reference="Hadzic et al. (2005), data/validation/hadzic2005",
+        case="floating_box", runs=_floating_box_runs, metric=_floating_box_metric,
+        tolerance="WP1 amplitude ratio 0.85-1.15, r > 0.93; heave 0.8-1.2, roll 0.7-1.3, "
+                  "r > 0.8 (dx = 0.016 m)",
+        figures=(("fig_floating_box", "fig_floating_box"),)),
+    Target(
+        id="dam_break",
+        compares="surge-front lead over the experiment up to t = 0.6 s",
+        reference="Koshizuka & Oka (1996), data/validation/koshizuka1996",
+        case="dam_break", runs=_dam_break_runs, metric=_dam_break_metric,
+        tolerance="front lead RMS 15 %, largest 16 % (dx = 0.025 m)",
+        figures=(("fig_dam_break", "fig_dam_break"),)),
+)}

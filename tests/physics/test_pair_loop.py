@@ -1,4 +1,5 @@
-"""The pair loop (:func:`sph.engine.fluid.interact`) against a brute-force evaluation of the same sums.
+"""The pair loop (:func:`sph.engine.fluid.interact`) against a brute-force evaluation of the
+same sums.
 
 ``interact`` finds each fluid particle's neighbours through the cell list. The reference
 here visits, for every fluid particle, every other particle of the set (no cells), and sums

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from physics_helpers import run_builtin
 
 from sph.bodies.damage import orifice_rate
 from sph.bodies.hull import HullConfig, cabin_area, flooded_equilibrium, mid_shape, opening_bottom
@@ -17,7 +18,6 @@ from sph.cases.ship import _to_keel
 from sph.driver import Simulation
 from sph.engine.opening import sdf_many
 from sph.study.analysis import oscillation_frequency
-from physics_helpers import run_builtin
 
 DX = 0.8
 STILL_SMALL_TANK = [

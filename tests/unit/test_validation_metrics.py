@@ -1,14 +1,27 @@
 """Comparison metrics of a simulated series with a measured one (:mod:`sph.study.validation`):
 amplitude ratio, lag and correlation recover known values from synthetic signals, on the
-irregular sampling of a digitised record."""
+irregular sampling of a digitised record; the table of validation targets is complete."""
 
+import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
-from sph.study.validation import HADZIC_MAP, dominant_period, floating_box_errors, series_errors
+from sph.cases import CASES
+from sph.study.sweeps import PRESET_SECTION_KEYS
+from sph.study.validation import (
+    HADZIC_MAP,
+    TARGETS,
+    Target,
+    dominant_period,
+    floating_box_errors,
+    series_errors,
+)
+
+SCRIPTS = Path(__file__).resolve().parents[2] / "workflow" / "scripts"
 
 OMEGA = 2.0 * math.pi / 0.8  # a wave group's dominant period, 0.8 s
 
@@ -77,3 +90,19 @@ def test_floating_box_errors_of_the_experiment_against_itself():
         assert e["amplitude_ratio"] == pytest.approx(1.0, rel=0.01)
         assert abs(e["lag"]) <= 0.01 and e["correlation"] > 0.999
     assert set(HADZIC_MAP) >= set(out)
+
+
+def test_every_validation_target_has_every_field_and_a_unique_id():
+    assert list(TARGETS) == ["wave_tank", "sloshing", "decay", "floating_box", "dam_break"]
+    figures = []
+    for key, t in TARGETS.items():
+        assert t.id == key
+        for field in dataclasses.fields(Target):
+            value = getattr(t, field.name)
+            assert value is not None and value != "" and value != (), (key, field.name)
+        assert t.case in CASES and t.id in PRESET_SECTION_KEYS
+        assert callable(t.runs) and callable(t.metric)
+        for name, script in t.figures:
+            assert (SCRIPTS / f"{script}.py").is_file(), script
+            figures.append(name)
+    assert len(set(figures)) == len(figures)  # one file name per figure

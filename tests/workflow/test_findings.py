@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -86,6 +87,20 @@ def _paper_like():
 
 def _verdicts(ds, t2=7.0):
     return {f.id: f.holds for f in findings.compute_findings(ds, GROUPS, t2)}
+
+
+def test_every_finding_of_the_table_has_every_field_and_a_unique_id():
+    ids = [f.id for f in findings.FINDINGS]
+    assert ids == [f"F{k}" for k in range(1, 16)] and len(set(ids)) == len(ids)
+    groups = {"opening", "side", "fill", "amplitude"}
+    for f in findings.FINDINGS:
+        for field in dataclasses.fields(findings.FindingSpec):
+            value = getattr(f, field.name)
+            assert value is not None and value != "", (f.id, field.name)
+        assert f.paper.startswith("Sec. ") and f.statement[0].isupper()
+        assert f.group.split()[0] in groups, f.group
+        assert isinstance(f.steady, bool)
+        assert callable(f.cases) and callable(f.measure) and callable(f.test)
 
 
 def test_every_finding_holds_on_paper_like_data():

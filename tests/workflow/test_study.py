@@ -172,6 +172,39 @@ def test_validation_runs_cover_every_target(tmp_path):
         "CaseFloatingWavesVal_Flap.dat")
 
 
+def test_schemas_list_the_targets_of_the_table():
+    """The JSON schemas of config/schema/ name the validation targets too: they must agree
+    with the table (sph.study.validation.TARGETS) and the presets' sections."""
+    from sph.study.validation import TARGETS
+
+    schema = yaml.safe_load((ROOT / "config" / "schema" / "config.schema.yaml").read_text())
+    assert schema["properties"]["validation"]["items"]["enum"] == list(TARGETS)
+    presets = yaml.safe_load((ROOT / "config" / "schema" / "presets.schema.yaml").read_text())
+    sections = presets["additionalProperties"]["properties"]
+    assert set(TARGETS) <= set(presets["additionalProperties"]["required"])
+    for target in TARGETS:
+        assert set(sections[target]["properties"]) == set(study.PRESET_SECTION_KEYS[target])
+        assert {k for k, required in study.PRESET_SECTION_KEYS[target].items() if required} \
+            == set(sections[target]["required"])
+
+
+def test_ship_defaults_come_from_the_case_file():
+    """The draught, the default wave (A / d) and the reference case of the sweeps are those
+    of sph/cases/damaged_ship.yaml, stated nowhere else."""
+    from sph.cases import load_defaults
+
+    g = load_defaults("damaged_ship")["geometry"]
+    assert study.DEFAULT_DRAUGHT == g["hull"]["draught"] == 4.2
+    assert study.DEFAULT_AMPLITUDE == g["wavemaker"]["amplitude"] / g["hull"]["draught"]
+    assert study.DEFAULT_AMPLITUDE == pytest.approx(10 / 21, rel=1e-15)
+    ref = _load(reference=None)["reference"]
+    assert (ref["opening"], ref["side"], ref["fill"]) == (g["damage"]["opening"],
+                                                         g["damage"]["side"], g["fill"])
+    row = study.check_cases([dict(case="a", opening="10/21", side="back", fill=0)])[0]
+    over = study.ship_overrides(row, _load())
+    assert over["geometry.wavemaker.amplitude"] == g["wavemaker"]["amplitude"]
+
+
 def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed", seed=0):
     rng = np.random.default_rng(seed)
     n = int(round(t_end / dt_out)) + 1

@@ -88,6 +88,11 @@ def test_dry_run_lists_the_table_one_simulations(work):
     for rule in ("gather", "findings", "validation_summary", "overview_figure", "all"):
         assert counts[rule] == 1
     assert counts["ship_figure"] == 10  # Figs. 12-15, 17-19, 21-23; Fig. 10 needs amplitudes
+    # one rule for the validation figures: Fig. 7, the wave profile, sloshing, decay, box, dam
+    assert counts["validation_figure"] == 6
+    for name in ("fig07_wave_tank", "fig_wave_profile", "fig_sloshing", "fig_decay",
+                 "fig_floating_box", "fig_dam_break"):
+        assert f"results/validation/coarse/figures/{name}.png" in res.stdout
     for k in range(1, N_TABLE_ONE + 1):
         assert f"results/table1/cases/case{k}.nc" in res.stdout
     assert not (work / "results").exists()

@@ -16,6 +16,7 @@ from snakemake.utils import validate
 
 from sph.study import sweeps as study
 from sph.study.analysis import validation_data_dir
+from sph.study.validation import TARGETS
 from sph.schema import ConfigError
 
 try:
@@ -74,7 +75,7 @@ wildcard_constraints:
     sweep=re.escape(SWEEP),
     case="|".join(re.escape(c) for c in CASES),
     preset=re.escape(PRESET),
-    target="|".join(study.VALIDATION_TARGETS),
+    target="|".join(re.escape(t) for t in TARGETS),
     run="[A-Za-z0-9][A-Za-z0-9_-]*",
     figure="fig[0-9a-z_]+",
 
@@ -94,13 +95,12 @@ SHIP_FIGURES = {
     "fig22_probes_fill": ("fill", ["W1", "W2"]),
     "fig23_flood_fill": ("fill", ["flood_ratio"]),
 }
-# Validation figures: name -> targets whose runs they draw.
+# Validation figures, from the table of targets (sph.study.validation.TARGETS): file name ->
+# (target whose runs it draws, script in workflow/scripts/).
 VALIDATION_FIGURES = {
-    "fig07_wave_tank": "wave_tank",
-    "fig_sloshing": "sloshing",
-    "fig_decay": "decay",
-    "fig_floating_box": "floating_box",
-    "fig_dam_break": "dam_break",
+    name: (target.id, script)
+    for target in TARGETS.values()
+    for name, script in target.figures
 }
 
 
@@ -127,7 +127,7 @@ def ship_figures():
 
 
 def validation_figures():
-    return [name for name, target in VALIDATION_FIGURES.items() if target in VALIDATION]
+    return [name for name, (target, _) in VALIDATION_FIGURES.items() if target in VALIDATION]
 
 
 def ship_document(wildcards):

@@ -25,106 +25,28 @@ rule validation_summary:
         "../scripts/validation_summary.py"
 
 
-rule validation_figure_wave_tank:
+rule validation_figure:
+    # one rule for every validation figure: the figure's record in VALIDATION_FIGURES (from
+    # sph.study.validation.TARGETS) names the target whose runs it draws and its script
     input:
-        nc=validation_nc("wave_tank"),
+        nc=lambda w: validation_nc(VALIDATION_FIGURES[w.figure][0]),
     output:
         png=report(
-            "results/validation/{preset}/figures/fig07_wave_tank.png",
-            caption="../report/fig07_wave_tank.rst",
+            "results/validation/{preset}/figures/{figure}.png",
+            caption="../report/validation_figure.rst",
             category="Validation",
-            labels={"preset": "{preset}", "figure": "fig07_wave_tank"},
+            labels={"preset": "{preset}", "figure": "{figure}"},
         ),
     params:
+        target=lambda w: VALIDATION_FIGURES[w.figure][0],
+        script=lambda w: VALIDATION_FIGURES[w.figure][1],
         window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
         data_dir=str(DATA_DIR),
+    wildcard_constraints:
+        figure="|".join(re.escape(name) for name in VALIDATION_FIGURES),
     conda:
         "../envs/sph.yaml"
     log:
-        "results/validation/{preset}/logs/figures/fig07_wave_tank.log",
+        "results/validation/{preset}/logs/figures/{figure}.log",
     script:
-        "../scripts/fig_wave_tank.py"
-
-
-rule validation_figure_sloshing:
-    input:
-        nc=validation_nc("sloshing"),
-    output:
-        png=report(
-            "results/validation/{preset}/figures/fig_sloshing.png",
-            caption="../report/fig_sloshing.rst",
-            category="Validation",
-            labels={"preset": "{preset}", "figure": "fig_sloshing"},
-        ),
-    params:
-        window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
-        data_dir=str(DATA_DIR),
-    conda:
-        "../envs/sph.yaml"
-    log:
-        "results/validation/{preset}/logs/figures/fig_sloshing.log",
-    script:
-        "../scripts/fig_sloshing.py"
-
-
-rule validation_figure_decay:
-    input:
-        nc=validation_nc("decay"),
-    output:
-        png=report(
-            "results/validation/{preset}/figures/fig_decay.png",
-            caption="../report/fig_decay.rst",
-            category="Validation",
-            labels={"preset": "{preset}", "figure": "fig_decay"},
-        ),
-    params:
-        window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
-        data_dir=str(DATA_DIR),
-    conda:
-        "../envs/sph.yaml"
-    log:
-        "results/validation/{preset}/logs/figures/fig_decay.log",
-    script:
-        "../scripts/fig_decay.py"
-
-
-rule validation_figure_floating_box:
-    input:
-        nc=validation_nc("floating_box"),
-    output:
-        png=report(
-            "results/validation/{preset}/figures/fig_floating_box.png",
-            caption="../report/fig_floating_box.rst",
-            category="Validation",
-            labels={"preset": "{preset}", "figure": "fig_floating_box"},
-        ),
-    params:
-        window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
-        data_dir=str(DATA_DIR),
-    conda:
-        "../envs/sph.yaml"
-    log:
-        "results/validation/{preset}/logs/figures/fig_floating_box.log",
-    script:
-        "../scripts/fig_floating_box.py"
-
-
-rule validation_figure_dam_break:
-    input:
-        nc=validation_nc("dam_break"),
-    output:
-        png=report(
-            "results/validation/{preset}/figures/fig_dam_break.png",
-            caption="../report/fig_dam_break.rst",
-            category="Validation",
-            labels={"preset": "{preset}", "figure": "fig_dam_break"},
-        ),
-    params:
-        window=SWEEP_CFG["preset_settings"]["wave_tank"]["window"],
-        data_dir=str(DATA_DIR),
-    conda:
-        "../envs/sph.yaml"
-    log:
-        "results/validation/{preset}/logs/figures/fig_dam_break.log",
-    script:
-        "../scripts/fig_dam_break.py"
+        "../scripts/{params.script}.py"

@@ -2,6 +2,9 @@
 
     python workflow/scripts/fig_wave_profile.py OUT.png RUN.nc [RUN2.nc ...] [--window T0 T1]
 
+The workflow draws it from the wave-tank validation runs (rule ``validation_figure``,
+``results/validation/<preset>/figures/fig_wave_profile.png``, window of the preset).
+
 Each run is a ``wave_tank`` output with several surface probes. For every probe the
 first-harmonic amplitude over the window (40-60 s unless ``--window`` gives another) is
 plotted against x, with two references: linear flap theory decayed at the rate that the
@@ -87,9 +90,13 @@ def main(out: str, runs: list[str], window: tuple[float, float] = WINDOW) -> Non
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out")
-    ap.add_argument("runs", nargs="+")
-    ap.add_argument("--window", nargs=2, type=float, default=WINDOW, metavar=("T0", "T1"))
-    args = ap.parse_args()
-    main(args.out, args.runs, tuple(args.window))
+    if "snakemake" in globals():
+        sm = globals()["snakemake"]
+        main(sm.output[0], list(sm.input), tuple(sm.params.window))
+    else:
+        ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+        ap.add_argument("out")
+        ap.add_argument("runs", nargs="+")
+        ap.add_argument("--window", nargs=2, type=float, default=WINDOW, metavar=("T0", "T1"))
+        args = ap.parse_args()
+        main(args.out, args.runs, tuple(args.window))

@@ -24,7 +24,7 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
             f"(dx = {ds.attrs.get('dx', float('nan')):g} m), runs to t/T = "
             f"{float(ds['time'][-1]) / period:.2f}; damage at t1/T = "
             f"{float(ds.attrs['damage_time']) / period:.2f}; dynamic equilibrium taken from "
-            f"t2/T = {t2_periods:g}. Measures: see sph/findings.py.")
+            f"t2/T = {t2_periods:g}. Measures: see sph/study/findings.py.")
     with open(out_html, "w") as fh:
         fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
     for f in found:
