@@ -22,6 +22,7 @@ sea (:func:`flooded_draught`), used to check the flooding runs.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -147,19 +148,30 @@ def _polygon(s: np.ndarray, n: int = 4000) -> np.ndarray:
     return outline_points(s, 2.0 * (s[0] + s[2] - s[1]) * 2.0 / n, vertices=True)
 
 
+@functools.lru_cache(maxsize=32)
+def _section_polygon(hull: HullConfig, offset: float) -> np.ndarray:
+    """:func:`_polygon` of the outline moved ``offset`` inwards (cached: the hydrostatic
+    solvers clip the same outline at thousands of levels)."""
+    poly = _polygon(shape(hull, offset))
+    poly.flags.writeable = False
+    return poly
+
+
 def _clip_below(poly: np.ndarray, level: float) -> np.ndarray:
-    """Part of a closed polygon below ``w = level`` (Sutherland-Hodgman, one half-plane)."""
-    out = []
-    n = len(poly)
-    for k in range(n):
-        a, b = poly[k], poly[(k + 1) % n]
-        ina, inb = a[1] <= level, b[1] <= level
-        if ina:
-            out.append(a)
-        if ina != inb:
-            f = (level - a[1]) / (b[1] - a[1])
-            out.append(a + f * (b - a))
-    return np.array(out) if out else np.zeros((0, 2))
+    """Part of a closed polygon below ``w = level`` (Sutherland-Hodgman, one half-plane): for
+    each edge ``(a, b)`` in turn, ``a`` if it is below, then the crossing if the edge
+    crosses the level."""
+    a = poly
+    b = np.roll(poly, -1, axis=0)
+    ina = a[:, 1] <= level
+    cross = ina != (b[:, 1] <= level)
+    ac, bc = a[cross], b[cross]
+    f = (level - ac[:, 1]) / (bc[:, 1] - ac[:, 1])
+    out = np.empty((len(poly), 2, 2))
+    out[:, 0] = a
+    out[cross, 1] = ac + f[:, None] * (bc - ac)
+    keep = np.column_stack([ina, cross])
+    return out[keep]  # edge by edge: the vertex, then the crossing
 
 
 def _area_centroid(poly: np.ndarray) -> tuple[float, float, float]:
@@ -179,7 +191,7 @@ def _area_centroid(poly: np.ndarray) -> tuple[float, float, float]:
 def submerged(hull: HullConfig, level: float, offset: float = 0.0):
     """Area (m2) and centroid ``(u, w)`` of the outline moved ``offset`` inwards, below
     ``w = level`` (upright section)."""
-    return _area_centroid(_clip_below(_polygon(shape(hull, offset)), level))
+    return _area_centroid(_clip_below(_section_polygon(hull, offset), level))
 
 
 def cabin_area(hull: HullConfig) -> float:
