@@ -33,18 +33,20 @@ from sph.schema import ConfigError, spec
 
 @dataclass(frozen=True)
 class HullConfig:
-    """Main dimensions of the ship section and its mass properties."""
+    """Main dimensions of the ship section and its mass properties (every key required: the
+    paper's values are the defaults of the built-in cases ``damaged_ship`` and
+    ``ship_decay``, in their YAML files)."""
 
-    breadth: float = spec(16.0, lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="B")
-    depth: float = spec(8.5, lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="D, keel to deck")
-    draught: float = spec(4.2, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
+    breadth: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="B")
+    depth: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m", doc="D, keel to deck")
+    draught: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m",
                           doc="d, before damage (the hull mass follows from it)")
-    bilge_radius: float = spec(1.5, lo=0.0, hi=1.0e3, unit="m", doc="outer bilge radius")
-    plating: float = spec(0.1, lo=0.0, lo_open=True, hi=1.0e2, unit="m",
+    bilge_radius: float = spec(lo=0.0, hi=1.0e3, unit="m", doc="outer bilge radius")
+    plating: float = spec(lo=0.0, lo_open=True, hi=1.0e2, unit="m",
                           doc="plating thickness (bottom, sides and deck)")
-    kg: float = spec(3.4, lo=0.0, hi=1.0e3, unit="m",
+    kg: float = spec(lo=0.0, hi=1.0e3, unit="m",
                      doc="height of the centre of gravity above the keel")
-    gyradius: float = spec(4.7, lo=0.0, lo_open=True, hi=1.0e3, unit="m",
+    gyradius: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m",
                            doc="roll radius of gyration about the centre of gravity")
 
     def check(self, key):

@@ -1,6 +1,7 @@
 """Ship section geometry, hydrostatics, the pair rule through a damage opening, and the
 ship cases' input checks."""
 
+import dataclasses
 import logging
 import math
 
@@ -9,7 +10,6 @@ import pytest
 
 from sph.bodies.damage import orifice_rate
 from sph.bodies.hull import (
-    HullConfig,
     cabin_area,
     flooded_draught,
     flooded_equilibrium,
@@ -20,14 +20,15 @@ from sph.bodies.hull import (
     shell_particles,
     submerged,
 )
-from sph.cases import build_case
+from sph.cases import build_case, builtin
 from sph.engine.kernels import kernel_params
 from sph.engine.opening import OP_SIZE, keep_sides, passable, sdf, wall_hidden
 from sph.engine.probes import surface_heights
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
 
-HULL = HullConfig()
+#: the paper's hull, as the built-in ship cases define it
+HULL = builtin("damaged_ship").geometry.hull
 
 
 def test_section_areas_match_closed_form():
@@ -41,7 +42,7 @@ def test_section_areas_match_closed_form():
 
 
 def test_box_hydrostatics_closed_form():
-    box = HullConfig(bilge_radius=0.0, kg=3.0)
+    box = dataclasses.replace(HULL, bilge_radius=0.0, kg=3.0)
     hs = hydrostatics(box, 1000.0, 9.81)
     b, d = box.breadth, box.draught
     assert hs["kb"] == pytest.approx(d / 2, rel=1e-6)
@@ -57,7 +58,7 @@ def test_box_hydrostatics_closed_form():
 def test_flooded_equilibrium_in_finite_tanks_box_closed_form():
     """Box section, tanks of length L: each tank's water area is conserved, the cabin level
     equals the damaged tank's level; all relations are linear in the keel sinkage s."""
-    box = HullConfig(bilge_radius=0.0)
+    box = dataclasses.replace(HULL, bilge_radius=0.0)
     b, d, t, w, L = box.breadth, box.draught, box.plating, 1 / 3, 70.0
     bi = b - 2 * t
 
@@ -163,7 +164,7 @@ def test_opening_lower_edge_on_the_bilge():
     # mid-surface bilge radius r = 1.5 - 0.05 centred 1.5 above the keel: 45-degree point
     r = HULL.bilge_radius - 0.5 * HULL.plating
     assert opening_bottom(HULL) == pytest.approx(1.5 - r * math.cos(math.pi / 4))
-    square = HullConfig(bilge_radius=0.0)
+    square = dataclasses.replace(HULL, bilge_radius=0.0)
     assert opening_bottom(square) == pytest.approx(square.plating)
 
 

@@ -40,6 +40,37 @@ def test_rectangular_tank_first_mode_frequency(fill):
     assert 0.8 * viscous < zeta < 1.3 * viscous, (zeta, viscous)
 
 
+def _viscous_damping(dx: float):
+    """Damping ratio of the first mode (fill 50 %, 6 s) with alpha = 0 and 0.04, and the
+    damping 2 nu k^2 / omega that alpha = 0.04 adds in theory."""
+    zetas = {}
+    for alpha in (0.0, 0.04):
+        sim = run_builtin("sloshing_rect", [
+            f"numerics.dx={dx}", "geometry.fill=0.5", "run.t_end=6.0",
+            "run.output_interval=0.01", f"numerics.alpha={alpha}"])
+        ds = sim.dataset()
+        omega, zetas[alpha] = oscillation_frequency(ds.time.values, ds.centre_of_mass_x.values)
+    theory = viscous_wave_damping(artificial_viscosity_nu(0.04, sim.h, sim.c0),
+                                  math.pi / 1.0) / omega
+    return zetas, theory
+
+
+def test_artificial_viscosity_damps_the_mode_at_the_viscous_rate_coarse():
+    """The test below at dx = L/20 (a quarter of its cost): the damping alpha = 0.04 adds is
+    2 nu k^2 / omega, less the part lost where the viscous sum is truncated within a kernel
+    support of the free surface and the walls. That truncated band is 3h / L = 0.18 of the
+    tank here, twice the L/40 run's, and the deficit follows it: -4 % at L/80, -8 % at L/40,
+    -14 % at L/20 (measured). So the added damping lies below theory by less than 20 %
+    (the deficit's first-order growth with h leaves it below 16 %, plus the fit's spread).
+    Without viscosity the mode keeps most of its energy: under a quarter of what alpha = 0.04
+    adds (measured 4 %)."""
+    zetas, theory = _viscous_damping(0.05)
+    added = zetas[0.04] - zetas[0.0]
+    assert -0.20 < added / theory - 1.0 < 0.0, (zetas, theory)
+    assert 0.0 <= zetas[0.0] < 0.25 * theory, (zetas, theory)
+
+
+@pytest.mark.slow
 def test_artificial_viscosity_damps_the_mode_at_the_viscous_rate():
     """The artificial viscosity acts as nu = alpha h c0 / 8, and a gravity wave in a fluid
     of viscosity nu loses amplitude at 2 nu k^2 (free-slip walls and bottom, any depth):
@@ -51,15 +82,7 @@ def test_artificial_viscosity_damps_the_mode_at_the_viscous_rate():
     amplitude lost). Without the artificial viscosity the mode must keep most of its
     energy: the damping left (time integration and density re-initialisation) stays under
     a quarter of what alpha = 0.04 adds."""
-    zetas = {}
-    for alpha in (0.0, 0.04):
-        sim = run_builtin("sloshing_rect", [
-            "numerics.dx=0.025", "geometry.fill=0.5", "run.t_end=6.0",
-            "run.output_interval=0.01", f"numerics.alpha={alpha}"])
-        ds = sim.dataset()
-        omega, zetas[alpha] = oscillation_frequency(ds.time.values, ds.centre_of_mass_x.values)
-    k = math.pi / 1.0
-    theory = viscous_wave_damping(artificial_viscosity_nu(0.04, sim.h, sim.c0), k) / omega
+    zetas, theory = _viscous_damping(0.025)
     added = zetas[0.04] - zetas[0.0]
     assert abs(added / theory - 1.0) < 0.15, (zetas, theory)
     assert 0.0 <= zetas[0.0] < 0.25 * theory, (zetas, theory)

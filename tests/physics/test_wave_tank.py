@@ -10,7 +10,7 @@ reflection below 5 % with the absorbing zone, and the incident wave extrapolated
 flap within 3 % of theory. Both resolutions are judged over the same window, 40-60 s: the
 wave reflected by the zone reaches WP2 after about 30 s and WP1 after about 40 s, and the
 two probes, half a wavelength apart, both sit near nodes of the partial standing wave it
-makes (README, Validation: with a probe every 3 m at dx = 1 A and 0.6 A the incident wave
+makes (docs/validation/wave_tank.md: with a probe every 3 m at dx = 1 A and 0.6 A the incident wave
 is within 1 % of theory at the flap, decays at the artificial viscosity's rate, and the
 zone reflects 1.9 % with strength 1, 0.8-0.9 % with the built-in case's strength 2). A
 dx = 0.4 A run is 3.2 G particle-steps (30 457 particles, 105 300 steps), a dx = 0.2 A run
@@ -176,17 +176,14 @@ def test_non_monotonic_flap_file_is_refused(tmp_path):
     assert "row 3" in str(err.value)
 
 
-def test_flap_drives_the_water_next_to_it():
-    """Coarse (dx = 1 m = 1 A) and short (30 s): the flap angle is recorded as theta0
-    sin(omega t) in degrees; the water next to the flap rises while the flap leans forward
-    (t ~ pi/2) and falls while it leans back (t ~ 3 pi/2); and once the front has passed
-    WP1 (x = 30 m, 15-30 s) the wave there has the linear-theory amplitude within 10 % and
-    period within 1 % (measured -1.7 % and -0.2 % with the case's alpha = 0.01, -4.9 % with
-    0.02; the artificial viscosity alone takes 3 % over those 30 m at this resolution with
-    0.01, README "Validation")."""
-    sim = run_builtin("wave_tank", ["numerics.dx=1.0", "run.t_end=30.0",
-                                    "run.output_interval=0.05",
-                                    "probes.surface=[{name: near, x: 3.0}, {name: WP1, x: 30.0}]"])
+def _flap_run(extra=()):
+    return run_builtin("wave_tank", ["numerics.dx=1.0", "run.t_end=30.0",
+                                     "run.output_interval=0.05",
+                                     "probes.surface=[{name: near, x: 3.0}, {name: WP1, x: 30.0}]",
+                                     *extra])
+
+
+def _assert_flap_drives_the_water(sim, amplitude_tolerance):
     ds = sim.dataset()
     t = ds.time.values
     np.testing.assert_allclose(ds.flap_angle.values, np.degrees(0.025 * np.sin(t)), atol=1e-12)
@@ -198,8 +195,32 @@ def test_flap_drives_the_water_next_to_it():
     assert ds.attrs["absorber_speed"] == pytest.approx(2.0 * OMEGA / K, rel=1e-9)
     s = wave_statistics(t, ds.probe_elevation.sel(probe="WP1").values, OMEGA, (15.0, 30.0))
     theory = ds.attrs["theory_amplitude"]
-    assert abs(s["amplitude"] / theory - 1.0) < 0.10, (s, theory)
+    assert abs(s["amplitude"] / theory - 1.0) < amplitude_tolerance, (s, theory)
     assert abs(s["period"] / (2 * math.pi / OMEGA) - 1.0) < 0.01, s
+
+
+def test_flap_drives_the_water_next_to_it_short_tank():
+    """The test below in a tank half as long (75 m, the absorbing zone over its last 30 m:
+    half the particles). The flap and the water next to it behave the same (measured
+    +0.27 / -0.22 m there, against the 0.2 m bounds); at WP1 the period holds to 1 %
+    (measured +0.08 %) and the amplitude to 10 % (measured +5.0 %: a zone half a wavelength
+    long reflects more, and the reflected part that reaches WP1 before 30 s adds to the
+    incident wave)."""
+    _assert_flap_drives_the_water(_flap_run(["geometry.tank_length=75",
+                                             "geometry.absorber.start=45",
+                                             "geometry.absorber.length=30"]), 0.10)
+
+
+@pytest.mark.slow
+def test_flap_drives_the_water_next_to_it():
+    """Coarse (dx = 1 m = 1 A) and short (30 s): the flap angle is recorded as theta0
+    sin(omega t) in degrees; the water next to the flap rises while the flap leans forward
+    (t ~ pi/2) and falls while it leans back (t ~ 3 pi/2); and once the front has passed
+    WP1 (x = 30 m, 15-30 s) the wave there has the linear-theory amplitude within 10 % and
+    period within 1 % (measured -1.7 % and -0.2 % with the case's alpha = 0.01, -4.9 % with
+    0.02; the artificial viscosity alone takes 3 % over those 30 m at this resolution with
+    0.01, docs/validation/wave_tank.md)."""
+    _assert_flap_drives_the_water(_flap_run(), 0.10)
 
 
 def _paper_tank(absorber: bool, dx: float = 0.4):

@@ -111,7 +111,7 @@ def test_the_default_sweep_is_accepted():
 
 
 def test_every_kind_is_counted():
-    # the number of kinds of invalid sweep covered (reported in the README)
+    # the number of kinds of invalid sweep covered (reported in docs/workflow.md)
     assert len(KINDS) == 25
 
 
