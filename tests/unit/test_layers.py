@@ -8,6 +8,9 @@ Layers, lowest first: ``sph.schema`` (configuration schema machinery, no project
 
 import ast
 import functools
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -127,3 +130,19 @@ def test_the_reader_sees_every_form_of_import():
               "def f():\n    from sph.cases import CASES\n    from ..study import sweeps\n")
     assert _imports_of(source, "sph.engine.probe", False) == {
         "sph.io.output", "sph.engine.kernels", "sph.cases", "sph.study.sweeps"}
+
+
+def test_importing_the_engine_loads_no_layer_above_it():
+    """At run time too: a fresh interpreter that imports every engine module has loaded no
+    module of ``sph.bodies``, ``sph.io``, ``sph.cases``, ``sph.study``, ``sph.driver`` or
+    ``sph.cli``."""
+    engine = sorted(_module_name(p) for p in (ROOT / "engine").glob("*.py"))
+    code = ("import importlib, sys\n"
+            f"for m in {engine!r}:\n    importlib.import_module(m)\n"
+            "print(' '.join(sorted(m for m in sys.modules if m.startswith('sph'))))\n")
+    env = dict(os.environ, PYTHONPATH=str(ROOT.parent))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=env, timeout=120, check=True).stdout.split()
+    assert set(engine) <= set(out)
+    above = [m for m in out if _part(m) not in ("sph", "sph.schema", "sph.engine")]
+    assert not above, f"importing the engine loaded {above}"
