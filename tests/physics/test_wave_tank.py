@@ -23,8 +23,8 @@ alpha = 0.01, WP1 / WP2 -1.2 / -4.6 % at 0.4 A and -1.3 / -4.0 % at 0.2 A (every
 holds); with 0.02, -2.5 / -6.8 % at 0.4 A and -1.7 / -5.1 % at 0.2 A (0.1 point outside
 5 %). Beyond
 the viscous decay, the wave at the flap is 1.8 % low at 0.2 A (1 % of it nonlinear), and it
-loses about 2 % more by 84 m at every dx (docs/validation/wave_tank.md, "Where the loss
-beyond the viscous decay comes from").
+loses about 2 % more by 84 m at every dx (docs/validation/wave_tank.md, "The error
+budget, and what is still open").
 """
 
 import math
