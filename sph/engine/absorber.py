@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sph.engine.jit import JIT, njit
-from sph.schema import spec
+from sph.schema import ConfigError, spec
 
 FORMS = {"one_sided": 1, "two_sided": 2}
 
@@ -60,17 +60,26 @@ AB_SIZE = 6
 
 @dataclass(frozen=True)
 class AbsorberConfig:
-    """Damping zone ``[start, start + length]``."""
+    """Damping zone ``[start, start + length]`` (each case gives where it lies)."""
 
     enabled: bool = spec(True, doc="switch the zone on or off")
-    start: float = spec(90.0, lo=0.0, hi=1.0e6, unit="m", doc="x where the zone starts")
-    length: float = spec(60.0, lo=0.0, lo_open=True, hi=1.0e6, unit="m", doc="zone length")
+    start: float | None = spec(None, lo=0.0, hi=1.0e6, unit="m",
+                               doc="x where the zone starts (required when enabled)")
+    length: float | None = spec(None, lo=0.0, lo_open=True, hi=1.0e6, unit="m",
+                                doc="zone length (required when enabled)")
     speed: float | None = spec(None, lo=0.0, lo_open=True, hi=1.0e4, unit="m/s",
                                doc="c of the profile; default: linear phase speed of the wave")
     form: str = spec("two_sided", choices=tuple(FORMS), doc="damp all particles, or only "
                      "those with vx < 0")
     strength: float = spec(1.0, lo=0.0, lo_open=True, hi=100.0,
                            doc="multiplies c (speed, or the default phase speed)")
+
+    def check(self, key):
+        if self.enabled:
+            for name, unit in (("start", "[0, 1e+06] m"), ("length", "(0, 1e+06] m")):
+                if getattr(self, name) is None:
+                    raise ConfigError(f"{key}.{name}", f"required when {key}.enabled is true "
+                                      f"(expected a number in {unit})")
 
 
 def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,

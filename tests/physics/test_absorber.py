@@ -3,8 +3,10 @@
 import numpy as np
 import pytest
 
+from sph.cases import builtin
 from sph.engine.absorber import AbsorberConfig, absorber_params, sigma
 from sph.engine.integrator import verlet_update
+from sph.schema import ConfigError
 
 CFG = AbsorberConfig(start=90.0, length=60.0, speed=10.0)
 DX = 0.4
@@ -88,3 +90,15 @@ def test_huge_damping_stays_stable():
     s = sigma(0.999 + 1e-3 * 1.0, 1.0, ab)
     assert vx[0] == pytest.approx(1.0 / (1.0 + 1e-3 * s), rel=1e-12)
     assert vz[0] == pytest.approx(vx[0], rel=1e-12)
+
+
+def test_an_enabled_zone_must_say_where_it_lies():
+    """The zone's place belongs to the case (no tank-specific default): enabling a zone
+    without ``start`` is refused naming the key, before any particle is built."""
+    with pytest.raises(ConfigError) as err:
+        builtin("ship_decay", ["geometry.absorber.enabled=true"])
+    assert err.value.key == "geometry.absorber.start"
+    assert "required when geometry.absorber.enabled is true" in str(err.value)
+    cfg = builtin("ship_decay", ["geometry.absorber.enabled=true", "geometry.absorber.start=80",
+                                 "geometry.absorber.length=40"])
+    assert (cfg.geometry.absorber.start, cfg.geometry.absorber.length) == (80.0, 40.0)
