@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from sph.cases.geometry import lattice
+from sph.cases.geometry import lattice, n_wall_layers
 from sph.engine.config import CaseConfig
 from sph.engine.eos import hydrostatic_density
 from sph.engine.particles import Particles
@@ -92,6 +92,12 @@ def scales(cfg: CaseConfig, depth: float | None = None) -> Scales:
     """dx, h, kernel support, c0 and B of a case (:class:`sph.engine.scales.Scales`; c0
     and B need the reference depth)."""
     return Scales.of(cfg.numerics, cfg.fluid, depth)
+
+
+def wall_layers(cfg: CaseConfig) -> int:
+    """Layers of dummy wall particles: ``numerics.wall_layers``, or enough to cover the
+    kernel support (:func:`sph.cases.geometry.n_wall_layers`)."""
+    return n_wall_layers(scales(cfg).support, cfg.numerics.dx, cfg.numerics.wall_layers)
 
 
 def make_particles(cfg: CaseConfig, fluid_xz, wall_xz, surface_z, depth,

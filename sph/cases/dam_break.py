@@ -17,9 +17,9 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     require_resolved,
-    scales,
+    wall_layers,
 )
-from sph.cases.geometry import RoundedTank, n_wall_layers, tank_particles
+from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.engine.particles import FLUID
 from sph.schema import ConfigError, spec
@@ -54,7 +54,7 @@ def check(cfg: CaseConfig) -> None:
 
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
     tank = RoundedTank(0.0, 0.0, g.tank_length, g.tank_height)
     fluid, wall = tank_particles(tank, dx, layers, g.tank_height, g.column_height)
     fluid = fluid[fluid[:, 0] < g.column_width]

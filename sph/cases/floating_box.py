@@ -24,9 +24,9 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     require_resolved,
-    scales,
+    wall_layers,
 )
-from sph.cases.geometry import fit_cells, n_wall_layers
+from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
 from sph.schema import ConfigError, spec
@@ -80,7 +80,7 @@ def check(cfg: CaseConfig) -> None:
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     rho0 = cfg.fluid.rho0
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
     t = layers * dx
     draught = g.box_density / rho0 * g.box_height
     bottom = g.depth - draught + g.heave_offset

@@ -47,8 +47,9 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     scales,
+    wall_layers,
 )
-from sph.cases.geometry import fit_cells, n_wall_layers
+from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
 from sph.engine.opening import pack_opening, sdf_many, set_circle
@@ -296,11 +297,12 @@ def _cargo_columns(hull, fill, dx, inner):
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     hull, rho0 = g.hull, cfg.fluid.rho0
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
+    sc = scales(cfg)
     t = layers * dx
     segs = _segments(g)
     n_seg = len(segs)
-    pitch = g.tank_length + 2 * t + scales(cfg).support + 2 * dx
+    pitch = g.tank_length + 2 * t + sc.support + 2 * dx
     flap = FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity)
     omega = g.wavemaker.omega
     period = 2.0 * math.pi / omega
@@ -388,12 +390,12 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     for s in range(n_seg):
         hull_params.append(pack_opening(
             sea=2 * s, cabin=2 * s + 1, group=1 + n_seg + s, side=side, w_low=z0, w_high=z1,
-            shape=mid_shape(hull), kg=hull.kg, reach=scales(cfg).support, margin=0.5 * dx))
+            shape=mid_shape(hull), kg=hull.kg, reach=sc.support, margin=0.5 * dx))
     if d_seg is not None:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
         in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
-        set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, scales(cfg).support))
+        set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, sc.support))
         opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
@@ -409,7 +411,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
 
         diagnostics["flood_volume"] = flood_volume
         diagnostics["flood_ratio"] = lambda p, time: flood_volume(p, time) / v_cabin
-    kp = scales(cfg).kp
+    kp = sc.kp
     u_probe = side * (0.5 * hull.breadth - hull.plating - hull.breadth / 160.0)
 
     def cabin_probe(s):

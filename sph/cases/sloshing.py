@@ -33,9 +33,9 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     require_resolved,
-    scales,
+    wall_layers,
 )
-from sph.cases.geometry import RoundedTank, n_wall_layers, tank_particles
+from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.engine.particles import FLUID
 from sph.schema import ConfigError, spec
@@ -56,7 +56,7 @@ def _centre_of_mass(p, axis):
 def _sloshing_setup(cfg: CaseConfig, tank: RoundedTank, height: float, fill: float,
                     amplitude: float, init: str) -> CaseSetup:
     dx = cfg.numerics.dx
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
     depth = fill * height
     width = tank.width
     wall_top = height

@@ -10,9 +10,9 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     require_resolved,
-    scales,
+    wall_layers,
 )
-from sph.cases.geometry import RoundedTank, n_wall_layers, tank_particles
+from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.schema import ConfigError, spec
 
@@ -44,7 +44,7 @@ def check(cfg: CaseConfig) -> None:
 
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
     tank = RoundedTank(0.0, 0.0, g.tank_length, g.tank_height)
     fluid, wall = tank_particles(tank, dx, layers, g.tank_height, g.depth)
     parts = make_particles(cfg, fluid, wall, g.depth, g.depth)

@@ -21,9 +21,8 @@ from sph.cases.base import (
     load_defaults,
     make_particles,
     require_resolved,
-    scales,
+    wall_layers,
 )
-from sph.cases.geometry import n_wall_layers
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
 from sph.schema import ConfigError, spec
@@ -70,7 +69,7 @@ def theory(cfg: CaseConfig) -> dict:
 
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = n_wall_layers(scales(cfg).support, dx, cfg.numerics.wall_layers)
+    layers = wall_layers(cfg)
     t = layers * dx
     pts, inside, wall_mask, body = flap_tank_lattice(dx, layers, g.tank_length, g.tank_height)
     fluid_mask = inside & (pts[:, 1] < g.depth)
