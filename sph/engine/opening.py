@@ -92,17 +92,13 @@ def pack_opening(sea: int, cabin: int, group: int, side: float, w_low: float, w_
     op[OP_KG] = kg
     op[OP_REACH] = reach
     op[OP_MARGIN] = margin
-    op[OP_CENTRE_U], op[OP_CENTRE_W], op[OP_REACH2] = circle
+    set_circle(op, circle)
     return op
 
 
 def set_circle(op: np.ndarray, circle: tuple[float, float, float]) -> None:
     """Set the quick-test circle (centre u, centre w - kg, squared reach) of ``op``."""
     op[OP_CENTRE_U], op[OP_CENTRE_W], op[OP_REACH2] = circle
-
-
-def is_open(op: np.ndarray) -> bool:
-    return op[OP_OPEN] != 0.0
 
 
 def set_open(op: np.ndarray, value: bool) -> None:

@@ -105,9 +105,6 @@ class Stepper:
         num, fl = cfg.numerics, cfg.fluid
         #: dx, h, kernel parameters, support radius, c0 and B, derived once
         self.scales = Scales.of(num, fl, self.setup.depth)
-        self.h = self.scales.h
-        self.kp = self.scales.kp
-        self.c0, self.b = self.scales.c0, self.scales.b
         self.parts = self.setup.particles
         self.grid = CellGrid(*self.setup.bounds, self.scales.support)
         self.gx, self.gz = 0.0, -fl.gravity
@@ -123,7 +120,7 @@ class Stepper:
         self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
         self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
-        #: damage opening parameters for the kernels (:mod:`sph.bodies.damage`)
+        #: damage opening parameters for the kernels (:mod:`sph.engine.opening`)
         self.op = (self.setup.opening.params if self.setup.opening is not None
                    else no_opening())
         self.force_scale = (self.setup.force_scale if self.setup.force_scale is not None
@@ -147,6 +144,23 @@ class Stepper:
         self._pres_x = np.array([p.x for p in probes.pressure], dtype=np.float64)
         self._pres_z = np.array([p.z for p in probes.pressure], dtype=np.float64)
         self._zfloor = self.setup.bounds[2]
+
+    # the scales the kernels need, as :attr:`scales` derives them
+    @property
+    def h(self) -> float:
+        return self.scales.h
+
+    @property
+    def kp(self) -> np.ndarray:
+        return self.scales.kp
+
+    @property
+    def c0(self) -> float:
+        return self.scales.c0
+
+    @property
+    def b(self) -> float:
+        return self.scales.b
 
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""

@@ -9,12 +9,8 @@ from __future__ import annotations
 
 import errno
 import os
-import re
 from collections.abc import Callable
 from pathlib import Path
-
-#: temporary files of :func:`write_atomic` (left behind only by a writer that was killed)
-TMP_PATTERN = re.compile(r"^\..+\.tmp-\d+$")
 
 
 class OutputWriteError(OSError):
