@@ -22,6 +22,14 @@ def run_builtin(case: str, overrides) -> Simulation:
     return Simulation(cfg).run()
 
 
+def set_options(overrides) -> list[str]:
+    """``--set`` options of ``sph run`` for each ``key=value`` override."""
+    out = []
+    for item in overrides:
+        out += ["--set", item]
+    return out
+
+
 def require_validation_data():
     """The experimental series live outside the project; CI must have them."""
     d = validation_data_dir()

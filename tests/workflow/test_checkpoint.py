@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from physics_helpers import assert_same_series
+from physics_helpers import assert_same_series, set_options
 
 from sph.cases import builtin
 from sph.cli import main
@@ -334,7 +334,7 @@ def test_cli_signal_exits_4_and_second_signal_stops_at_once(tmp_path, monkeypatc
                                                             case_file):
     path = case_file("still_water")
     out = tmp_path / "out.nc"
-    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(TINY["still_water"][1])
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + set_options(TINY["still_water"][1])
     _signal_at_step(monkeypatch, 30, signal.SIGTERM)
     assert main(argv) == 4
     err = capsys.readouterr().err
@@ -349,24 +349,6 @@ def test_cli_signal_exits_4_and_second_signal_stops_at_once(tmp_path, monkeypatc
 
 
 # --------------------------------------------------------------------------- command line
-
-
-def _sets(overrides):
-    out = []
-    for item in overrides:
-        out += ["--set", item]
-    return out
-
-
-@pytest.fixture
-def case_file(tmp_path, capsys):
-    def make(name):
-        assert main(["example", name]) == 0
-        path = tmp_path / f"{name}.yaml"
-        path.write_text(capsys.readouterr().out)
-        return path
-
-    return make
 
 
 def _wait_for(predicate, timeout=600.0):
@@ -394,7 +376,7 @@ def test_cli_killed_process_resumes_to_the_same_result(tmp_path, case_file, capl
     contents as an uninterrupted run."""
     path = case_file("still_water")
     out = tmp_path / "killed" / "out.nc"
-    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(LONGER)
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + set_options(LONGER)
     child = _child(argv, threads=2)
     ckpt = checkpoint_dir(out)
     try:
@@ -427,7 +409,7 @@ def test_cli_restart_flags(tmp_path, case_file, caplog, capsys):
     path = case_file("still_water")
     out = tmp_path / "out.nc"
     base = ["run", str(path), "-o", str(out), "--no-progress"]
-    sets = _sets(TINY["still_water"][1])
+    sets = set_options(TINY["still_water"][1])
     # --no-restart refuses to start from t = 0
     assert main(base + ["--no-restart"] + sets) == 2
     assert "no checkpoint to resume from" in capsys.readouterr().err
@@ -455,7 +437,7 @@ def test_cli_unwritable_output_directory(tmp_path, case_file, capsys, monkeypatc
     blocker = tmp_path / "file"
     blocker.write_text("x")
     rc = main(["run", str(path), "-o", str(blocker / "out.nc"), "--no-progress"]
-              + _sets(TINY["still_water"][1]))
+              + set_options(TINY["still_water"][1]))
     assert rc == 5
     err = capsys.readouterr().err
     assert err.startswith("error: cannot write to the output directory")
@@ -473,7 +455,7 @@ def test_cli_read_only_output_directory(tmp_path, case_file, capsys):
     locked.chmod(0o500)
     try:
         rc = main(["run", str(path), "-o", str(locked / "old.nc"), "--no-progress"]
-                  + _sets(TINY["still_water"][1]))
+                  + set_options(TINY["still_water"][1]))
     finally:
         locked.chmod(0o700)
     assert rc == 5 and "cannot write" in capsys.readouterr().err
@@ -489,7 +471,7 @@ def test_cli_disk_full_keeps_previous_files_and_resumes(tmp_path, case_file, cap
 
     path = case_file("still_water")
     out = tmp_path / "out.nc"
-    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets(
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + set_options(
         TINY["still_water"][1] + ["run.checkpoint_interval=0.05"])
     out.write_bytes(b"previous result")
 
@@ -531,7 +513,7 @@ def test_blow_up_keeps_output_and_checkpoints(tmp_path, case_file, capsys):
     that point is readable; the checkpoints written before stay (exit 3)."""
     path = case_file("dam_break")
     out = tmp_path / "dam.nc"
-    argv = ["run", str(path), "-o", str(out), "--no-progress"] + _sets([
+    argv = ["run", str(path), "-o", str(out), "--no-progress"] + set_options([
         "numerics.dx=0.1", "numerics.cfl=0.5", "numerics.c_factor=3", "run.t_end=1.5",
         "run.density_max=1.15", "run.checkpoint_interval=0.05"])
     assert main(argv) == 3

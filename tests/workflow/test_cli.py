@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
+from physics_helpers import set_options
 
 from sph.cases import load_case
 from sph.cli import main
@@ -38,26 +39,6 @@ TINY_BLOW_UP = [
     "run.density_max=1.0001",
     "run.t_end=0.5",
 ]
-
-
-def _sets(overrides):
-    out = []
-    for item in overrides:
-        out += ["--set", item]
-    return out
-
-
-@pytest.fixture
-def case_file(tmp_path, capsys):
-    """Write the built-in example of a case to a file (as a user would) and return it."""
-
-    def make(name):
-        assert main(["example", name]) == 0
-        path = tmp_path / f"{name}.yaml"
-        path.write_text(capsys.readouterr().out)
-        return path
-
-    return make
 
 
 def _stderr_lines(err):
@@ -121,7 +102,7 @@ def test_run_invalid_case_reports_one_line(tmp_path, capsys, text, overrides, ke
     path = tmp_path / "bad.yaml"
     path.write_text(text)
     out = tmp_path / "out" / "bad.nc"
-    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + _sets(overrides))
+    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + set_options(overrides))
     assert rc == 2
     captured = capsys.readouterr()
     lines = _stderr_lines(captured.err)
@@ -150,7 +131,7 @@ def test_run_yaml_syntax_error(tmp_path, capsys):
 
 def test_run_output_is_a_directory(case_file, tmp_path, capsys):
     rc = main(["run", str(case_file("still_water")), "-o", str(tmp_path), "--check"]
-              + _sets(TINY_STILL_WATER))
+              + set_options(TINY_STILL_WATER))
     assert rc == 2
     assert capsys.readouterr().err.startswith("error:")
 
@@ -163,7 +144,7 @@ def test_check_validates_and_writes_nothing(case_file, tmp_path, capsys):
     out = tmp_path / "results" / "still.nc"
     before = sorted(p.name for p in tmp_path.iterdir())
     rc = main(["run", str(path), "-o", str(out), "--check", "--threads", "1"]
-              + _sets(TINY_STILL_WATER))
+              + set_options(TINY_STILL_WATER))
     assert rc == 0
     assert "valid" in capsys.readouterr().out
     assert not out.exists()
@@ -177,7 +158,7 @@ def test_check_validates_and_writes_nothing(case_file, tmp_path, capsys):
 def test_check_creates_no_directory(case_file, tmp_path, capsys):
     path = case_file("still_water")
     out = tmp_path / "results" / "still.nc"
-    assert main(["run", str(path), "-o", str(out), "--check"] + _sets(TINY_STILL_WATER)) == 0
+    assert main(["run", str(path), "-o", str(out), "--check"] + set_options(TINY_STILL_WATER)) == 0
     capsys.readouterr()
     assert not out.parent.exists()
 
@@ -185,7 +166,7 @@ def test_check_creates_no_directory(case_file, tmp_path, capsys):
 def test_run_tiny_still_water(case_file, tmp_path, capsys):
     path = case_file("still_water")
     out = tmp_path / "out" / "still.nc"
-    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + _sets(TINY_STILL_WATER))
+    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + set_options(TINY_STILL_WATER))
     captured = capsys.readouterr()
     assert rc == 0, captured.err
     assert "error" not in captured.err.lower()
@@ -216,7 +197,7 @@ def test_run_tiny_still_water(case_file, tmp_path, capsys):
 def test_run_blow_up_exits_3_and_keeps_output(case_file, tmp_path, capsys):
     path = case_file("dam_break")
     out = tmp_path / "dam.nc"
-    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + _sets(TINY_BLOW_UP))
+    rc = main(["run", str(path), "-o", str(out), "--no-progress"] + set_options(TINY_BLOW_UP))
     captured = capsys.readouterr()
     assert rc == 3, captured.err
     err = captured.err
@@ -241,7 +222,7 @@ def test_run_with_vtk_snapshots(case_file, tmp_path, capsys):
     out = tmp_path / "still.nc"
     vtk = tmp_path / "vtk"
     rc = main(["run", str(path), "-o", str(out), "--no-progress", "--vtk", str(vtk)]
-              + _sets(TINY_STILL_WATER + ["run.vtk_interval=0.02"]))
+              + set_options(TINY_STILL_WATER + ["run.vtk_interval=0.02"]))
     assert rc == 0, capsys.readouterr().err
     vtus = sorted(vtk.glob("*.vtu"))
     pvds = sorted(vtk.glob("*.pvd"))
@@ -268,7 +249,7 @@ def test_run_without_vtk_interval_writes_no_snapshots(case_file, tmp_path, capsy
     path = case_file("still_water")
     vtk = tmp_path / "vtk"
     rc = main(["run", str(path), "-o", str(tmp_path / "s.nc"), "--no-progress", "--vtk",
-               str(vtk)] + _sets(TINY_STILL_WATER + ["run.t_end=0.02"]))
+               str(vtk)] + set_options(TINY_STILL_WATER + ["run.t_end=0.02"]))
     assert rc == 0, capsys.readouterr().err
     assert not vtk.exists() or not list(vtk.glob("*.vtu"))
 
