@@ -225,16 +225,9 @@ def flooded_draught(hull: HullConfig, damaged_weight: float) -> float:
         return (submerged(hull, d)[0] - damaged_weight * submerged(hull, d, hull.plating)[0]
                 - target)
 
-    lo, hi = hull.draught, hull.depth
-    if excess(hi) < 0.0:
+    if excess(hull.depth) < 0.0:
         return math.inf  # sinks: the intact cabins cannot carry the ship
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        if excess(mid) < 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return _bisect(excess, hull.draught, hull.depth)
 
 
 def _bisect(fn, lo: float, hi: float, n: int = 80) -> float:
