@@ -75,5 +75,6 @@ def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
     interact(x, z, vx, vz, rho, zero, m, np.zeros(n, np.int32), np.full(n, -1, np.int32),
              np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp, visc_coef,
              0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
-             fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz)
+             fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz,
+             np.empty(n))
     return ax, az, drho, sx, sz

@@ -50,30 +50,198 @@ when the segment between them passes through an open damage opening (:mod:`sph.b
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 from numba import prange
 
-from sph.engine.jit import JIT_PARALLEL, njit
-from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
-from sph.engine.opening import passable, wall_hidden
+from sph.engine.jit import JIT, JIT_PAIR, JIT_PARALLEL, JIT_PARALLEL_PAIR, njit
+from sph.engine.kernels import (E9, KP_ALPHA, KP_H, KP_INV_H2, KP_KIND, KP_R2MAX, exp_neg,
+                                f_r2, w_given_f, w_r2)
+from sph.engine.neighbours import BLOCK, gather_neighbours, max_candidates
+from sph.engine.opening import near_opening, passable, wall_hidden
 from sph.engine.particles import FLUID
 from sph.engine.shifting import SH_COEF, shift_vector
 
 
-@njit(**JIT_PARALLEL)
+@njit(**JIT)
+def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
+                  kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin):
+    """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
+    through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
+    shep)``: the pair accelerations, the velocity divergence sum, the diffusive sum and the
+    kernel sum (itself included)."""
+    r2max = kp[KP_R2MAX]
+    eps2 = 1.0e-4 * kp[KP_H] * kp[KP_H]
+    use_ddt = ddt_rho != 0.0
+    xi = x[i]
+    zi = z[i]
+    vxi = vx[i]
+    vzi = vz[i]
+    rhoi = rho[i]
+    pi = p[i]
+    ci = comp[i]
+    gxi = grx[i] if use_delta else 0.0
+    gzi = grz[i] if use_delta else 0.0
+    accx = 0.0
+    accz = 0.0
+    div = 0.0
+    diff = 0.0
+    shep = m[i] / rhoi * w_r2(0.0, kp)
+    c = cell_of[i]
+    for row in (c - ncx, c, c + ncx):
+        for j in range(cell_start[row - 1], cell_start[row + 2]):
+            dx = xi - x[j]
+            dz = zi - z[j]
+            r2 = dx * dx + dz * dz
+            if r2 >= r2max or j == i:
+                continue
+            if kind[j] == FLUID:
+                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
+                    continue
+            elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                continue
+            fw = f_r2(r2, kp)
+            rhoj = rho[j]
+            vj = m[j] / rhoj
+            dvx = vxi - vx[j]
+            dvz = vzi - vz[j]
+            vr = dvx * dx + dvz * dz
+            div += vj * vr * fw
+            if kind[j] == FLUID:
+                coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
+            else:  # a wall pushes and never pulls: fluid tension does not count
+                coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
+            if kind[j] == FLUID:
+                coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
+                if use_ddt:
+                    rho_h = -ddt_rho * (gx * dx + gz * dz)
+                    diff -= 2.0 * vj * fw * (rhoj - rhoi - rho_h)
+                elif use_delta:
+                    diff += vj * fw * (-2.0 * (rhoj - rhoi)
+                                       - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
+            accx += coef * fw * dx
+            accz += coef * fw * dz
+            shep += vj * w_given_f(r2, fw, kp)
+    return accx, accz, div, diff, shep
+
+
+@njit(inline="always", **JIT_PAIR)
+def _sums_gaussian(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz):
+    """The pair sums of :func:`_sums_general` over the neighbours ``buf[:nn]`` of a fluid
+    particle that cannot see through a damage opening (:func:`gather_neighbours`: the
+    particles of its compartment within the support, itself included: the self pair adds
+    its kernel value to the kernel sum and nothing else), for the improved Gaussian kernel.
+    No branch but the fluid/wall selects; ``vol = m / rho``; ``hx dx + hz dz`` is the
+    hydrostatic density difference of the ``ddt`` diffusive term (0: none)."""
+    h2 = kp[KP_H] * kp[KP_H]
+    eps2 = 1.0e-4 * h2
+    inv_h2 = kp[KP_INV_H2]
+    fg = -2.0 * kp[KP_ALPHA] * inv_h2  # F = fg exp(-q^2)
+    wg = kp[KP_ALPHA] * E9  # W = -F h^2 / 2 - alpha e^-9
+    xi = x[i]
+    zi = z[i]
+    vxi = vx[i]
+    vzi = vz[i]
+    rhoi = rho[i]
+    inv_rhoi = 1.0 / rhoi
+    pi = p[i]
+    ppos = max(pi, 0.0)  # a wall pushes and never pulls
+    accx = 0.0
+    accz = 0.0
+    div = 0.0
+    diff = 0.0
+    shep = 0.0
+    for k in range(nn):
+        j = buf[k]
+        dx = xi - x[j]
+        dz = zi - z[j]
+        r2 = dx * dx + dz * dz
+        fw = fg * exp_neg(r2 * inv_h2)
+        fluid = kind[j] == FLUID
+        vj = vol[j]
+        rhoj = rho[j]
+        vr = (vxi - vx[j]) * dx + (vzi - vz[j]) * dz
+        div += vj * vr * fw
+        coef = -((pi if fluid else ppos) + p[j]) * vj * inv_rhoi
+        visc = visc_coef * m[j] * vr / ((rhoi + rhoj) * (r2 + eps2))
+        coef += visc if fluid else 0.0
+        d = -2.0 * vj * fw * (rhoj - rhoi - hx * dx - hz * dz)
+        diff += d if fluid else 0.0
+        accx += coef * fw * dx
+        accz += coef * fw * dz
+        shep += vj * (-0.5 * h2 * fw - wg)
+    return accx, accz, div, diff, shep
+
+
+@njit(inline="always", **JIT_PAIR)
+def _sums_wendland(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz):
+    """:func:`_sums_gaussian` for the Wendland C2 kernel."""
+    h2 = kp[KP_H] * kp[KP_H]
+    eps2 = 1.0e-4 * h2
+    inv_h2 = kp[KP_INV_H2]
+    alpha = kp[KP_ALPHA]
+    fwend = -5.0 * alpha * inv_h2  # F = fwend t^3, t = 1 - q/2
+    xi = x[i]
+    zi = z[i]
+    vxi = vx[i]
+    vzi = vz[i]
+    rhoi = rho[i]
+    inv_rhoi = 1.0 / rhoi
+    pi = p[i]
+    ppos = max(pi, 0.0)
+    accx = 0.0
+    accz = 0.0
+    div = 0.0
+    diff = 0.0
+    shep = 0.0
+    for k in range(nn):
+        j = buf[k]
+        dx = xi - x[j]
+        dz = zi - z[j]
+        r2 = dx * dx + dz * dz
+        q = math.sqrt(r2 * inv_h2)
+        t = 1.0 - 0.5 * q
+        t2 = t * t
+        fw = fwend * t2 * t
+        fluid = kind[j] == FLUID
+        vj = vol[j]
+        rhoj = rho[j]
+        vr = (vxi - vx[j]) * dx + (vzi - vz[j]) * dz
+        div += vj * vr * fw
+        coef = -((pi if fluid else ppos) + p[j]) * vj * inv_rhoi
+        visc = visc_coef * m[j] * vr / ((rhoi + rhoj) * (r2 + eps2))
+        coef += visc if fluid else 0.0
+        d = -2.0 * vj * fw * (rhoj - rhoi - hx * dx - hz * dz)
+        diff += d if fluid else 0.0
+        accx += coef * fw * dx
+        accz += coef * fw * dz
+        shep += vj * alpha * t2 * t2 * (2.0 * q + 1.0)
+    return accx, accz, div, diff, shep
+
+
+@njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz):
-    """Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
+             sx, sz, vol):
+    r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
+
+    A fluid particle within reach of an open damage opening, or any fluid particle under
+    the renormalised diffusive term, takes every pair rule at every candidate
+    (:func:`_sums_general`). All others, the vast majority, first gather the neighbours of
+    their compartment without a branch (:func:`sph.engine.neighbours.gather_neighbours`)
+    and then sum over those alone with the kernel's own loop (:func:`_sums_gaussian`,
+    :func:`_sums_wendland`). :func:`interact_reference` sums every particle the general way.
 
     Parameters
     ----------
     visc_coef : float
-        :math:`2 \\alpha h c_0` (zero disables viscosity).
+        :math:`2 \alpha h c_0` (zero disables viscosity).
     delta_coef : float
-        :math:`\\delta h c_0` (zero disables the diffusive term; then ``grx, grz`` are unused).
+        :math:`\delta h c_0` (zero disables the diffusive term; then ``grx, grz`` are unused).
     ddt_rho : float
-        :math:`\\rho_0 / c_0^2` for the hydrostatic (``ddt``) form of the diffusive term;
+        :math:`\rho_0 / c_0^2` for the hydrostatic (``ddt``) form of the diffusive term;
         zero selects the renormalised form (``grx, grz``).
     grx, grz : arrays
         Renormalised density gradient of each particle (delta-SPH only).
@@ -84,70 +252,65 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
         shifting and leaves ``sx, sz`` untouched. The kernel sum that decides whether a
         particle is packed is taken in this pair loop; only packed particles search their
         neighbours again for the shift (:func:`sph.engine.shifting.shift_vector`).
+    vol : array
+        Work array for the particle volumes ``m / rho`` (filled here).
     """
     n = x.shape[0]
-    r2max = kp[KP_R2MAX]
-    eps2 = 1.0e-4 * kp[KP_H] * kp[KP_H]
+    for j in prange(n):
+        vol[j] = m[j] / rho[j]
     use_delta = delta_coef != 0.0
-    use_ddt = ddt_rho != 0.0
-    use_shift = shift[SH_COEF] != 0.0
-    for i in prange(n):
+    general = use_delta and ddt_rho == 0.0  # the renormalised term needs grx, grz
+    hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
+    hz = -ddt_rho * gz
+    gauss = kp[KP_KIND] == 0.0
+    r2max = kp[KP_R2MAX]
+    cap = max_candidates(cell_start, ncx)
+    for b in prange((n + BLOCK - 1) // BLOCK):
+        buf = np.empty(cap, dtype=np.int64)
+        for i in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
+            if kind[i] != FLUID:
+                continue
+            if general or near_opening(x[i], z[i], op, 0.0):
+                accx, accz, div, diff, shep = _sums_general(
+                    i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
+                    kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin)
+            else:
+                nn = gather_neighbours(i, x, z, comp, kind, -1, cell_of, cell_start, ncx,
+                                       r2max, buf)
+                if gauss:
+                    accx, accz, div, diff, shep = _sums_gaussian(
+                        i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz)
+                else:
+                    accx, accz, div, diff, shep = _sums_wendland(
+                        i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz)
+            _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+                    cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx,
+                    sz)
+
+
+@njit(**JIT_PARALLEL)
+def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
+                       kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op,
+                       kin, shift, sx, sz):
+    """:func:`interact` with every particle summed by :func:`_sums_general`, one rule at a
+    time (the test oracle of the vectorised loop)."""
+    use_delta = delta_coef != 0.0
+    for i in prange(x.shape[0]):
         if kind[i] != FLUID:
             continue
-        xi = x[i]
-        zi = z[i]
-        vxi = vx[i]
-        vzi = vz[i]
-        rhoi = rho[i]
-        pi = p[i]
-        ci = comp[i]
-        gxi = grx[i] if use_delta else 0.0
-        gzi = grz[i] if use_delta else 0.0
-        accx = 0.0
-        accz = 0.0
-        div = 0.0
-        diff = 0.0
-        shep = m[i] / rhoi * w_r2(0.0, kp) if use_shift else 0.0
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or j == i:
-                    continue
-                if kind[j] == FLUID:
-                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
-                                                      kin):
-                        continue
-                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
-                    continue
-                fw = f_r2(r2, kp)
-                rhoj = rho[j]
-                vj = m[j] / rhoj
-                dvx = vxi - vx[j]
-                dvz = vzi - vz[j]
-                vr = dvx * dx + dvz * dz
-                div += vj * vr * fw
-                if kind[j] == FLUID:
-                    coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
-                else:  # a wall pushes and never pulls: fluid tension does not count
-                    coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
-                if kind[j] == FLUID:
-                    coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
-                    if use_ddt:
-                        rho_h = -ddt_rho * (gx * dx + gz * dz)
-                        diff -= 2.0 * vj * fw * (rhoj - rhoi - rho_h)
-                    elif use_delta:
-                        diff += vj * fw * (-2.0 * (rhoj - rhoi)
-                                           - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
-                accx += coef * fw * dx
-                accz += coef * fw * dz
-                if use_shift:
-                    shep += vj * w_given_f(r2, fw, kp)
-        ax[i] = accx + gx
-        az[i] = accz + gz
-        drho[i] = rhoi * div + delta_coef * diff
-        if use_shift:
-            sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
-                                        cell_start, ncx, kp, op, kin, shift)
+        accx, accz, div, diff, shep = _sums_general(
+            i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
+            visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin)
+        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+                cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
+
+
+@njit(inline="always", **JIT)
+def _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+            cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz):
+    ax[i] = accx + gx
+    az[i] = accz + gz
+    drho[i] = rho[i] * div + delta_coef * diff
+    if shift[SH_COEF] != 0.0:
+        sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
+                                    cell_start, ncx, kp, op, kin, shift)

@@ -16,6 +16,12 @@ import numba
 FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 #: flags for serial kernels
 JIT = dict(cache=True, fastmath=FASTMATH, nogil=True)
+#: flags for the inner pair loops: a float division by zero gives inf or NaN (as in numpy;
+#: the run's checks catch it) instead of raising, so that no check and branch is compiled
+#: into every division
+JIT_PAIR = dict(JIT, error_model="numpy")
+#: flags for a ``prange`` loop that inlines pair loops of :data:`JIT_PAIR`
+JIT_PARALLEL_PAIR = dict(JIT_PAIR, parallel=True)
 #: flags for kernels with a ``prange`` loop
 JIT_PARALLEL = dict(JIT, parallel=True)
 

@@ -37,7 +37,8 @@ SUPPORT = {GAUSSIAN: 3.0, WENDLAND: 2.0}
 #: default h/dx
 DEFAULT_H_FACTOR = {"gaussian": 1.23, "wendland": 1.41}
 
-_E9 = math.exp(-9.0)
+#: the Gaussian's exponential at its cut-off r = 3h
+E9 = math.exp(-9.0)
 
 # slots of the packed kernel parameters ``kp`` (:func:`kernel_params`)
 KP_KIND = 0  #: GAUSSIAN or WENDLAND
@@ -77,7 +78,7 @@ def kernel_params(name: str, h: float) -> np.ndarray:
     """
     kind = KERNELS[name]
     if kind == GAUSSIAN:
-        alpha_d = 1.0 / (math.pi * h * h * (1.0 - 10.0 * _E9))
+        alpha_d = 1.0 / (math.pi * h * h * (1.0 - 10.0 * E9))
     else:
         alpha_d = 7.0 / (4.0 * math.pi * h * h)
     radius = SUPPORT[kind] * h
@@ -101,7 +102,7 @@ def w_r2(r2, kp):
     if r2 >= kp[KP_R2MAX]:
         return 0.0
     if kp[KP_KIND] == 0.0:
-        return kp[KP_ALPHA] * (exp_neg(r2 * kp[KP_INV_H2]) - 1.2340980408667956e-04)
+        return kp[KP_ALPHA] * (exp_neg(r2 * kp[KP_INV_H2]) - E9)
     q = math.sqrt(r2 * kp[KP_INV_H2])
     t = 1.0 - 0.5 * q
     t2 = t * t
@@ -113,7 +114,7 @@ def w_given_f(r2, fw, kp):
     """Kernel value at ``r2`` inside the support when its gradient factor ``fw`` is known
     (the Gaussian's value follows from ``fw`` without a second exponential)."""
     if kp[KP_KIND] == 0.0:
-        return -0.5 * fw * kp[KP_H] * kp[KP_H] - kp[KP_ALPHA] * 1.2340980408667956e-04
+        return -0.5 * fw * kp[KP_H] * kp[KP_H] - kp[KP_ALPHA] * E9
     return w_r2(r2, kp)
 
 

@@ -17,6 +17,12 @@ import numpy as np
 from sph.engine.jit import JIT, njit
 
 
+#: particles per block of the parallel pair loops that keep a neighbour buffer
+#: (:func:`gather_neighbours`). The split is fixed, so results do not depend on the number
+#: of threads.
+BLOCK = 256
+
+
 class CellGrid:
     """Cells of side ``cell`` covering ``[xmin, xmax] x [zmin, zmax]`` plus one padding layer."""
 
@@ -95,3 +101,43 @@ def neighbour_count(x, z, cell_of, cell_start, ncx, r2max, i):
             if dx * dx + dz * dz < r2max:
                 cnt += 1
     return cnt
+
+
+@njit(**JIT)
+def max_candidates(cell_start, ncx):
+    """The most particles a pair loop visits for one particle: the largest sum over the
+    three rows of three cells around any interior cell (the size of a neighbour buffer,
+    :func:`gather_neighbours`)."""
+    most = 0
+    ncells = cell_start.shape[0] - 1
+    for c in range(ncx + 1, ncells - ncx - 1):
+        cnt = 0
+        for row in (c - ncx, c, c + ncx):
+            cnt += cell_start[row + 2] - cell_start[row - 1]
+        most = max(most, cnt)
+    return most
+
+
+@njit(inline="always", **JIT)
+def gather_neighbours(i, x, z, comp, kind, want_kind, cell_of, cell_start, ncx, r2max, buf):
+    """Indices of the particles within ``sqrt(r2max)`` of particle ``i`` (itself included)
+    and of its compartment, and of kind ``want_kind`` unless it is negative, into ``buf``
+    (at least :func:`max_candidates` long); returns their number.
+
+    Written without a branch (every candidate is stored, and the count advances only for a
+    neighbour), so that the roughly two candidates in three that lie outside the support
+    cost no mispredicted jump; the pair loop then visits the neighbours only."""
+    xi = x[i]
+    zi = z[i]
+    ci = comp[i]
+    any_kind = want_kind < 0
+    nn = 0
+    c = cell_of[i]
+    for row in (c - ncx, c, c + ncx):
+        for j in range(cell_start[row - 1], cell_start[row + 2]):
+            dx = xi - x[j]
+            dz = zi - z[j]
+            buf[nn] = j
+            ok = (dx * dx + dz * dz < r2max) & (comp[j] == ci) & (any_kind | (kind[j] == want_kind))
+            nn += 1 if ok else 0
+    return nn

@@ -105,6 +105,12 @@ def set_open(op: np.ndarray, value: bool) -> None:
     op[OP_OPEN] = 1.0 if value else 0.0
 
 
+@njit(inline="always", **JIT)
+def group_of_op(op):
+    """:func:`group_of` in a numba kernel (-1 when the opening is closed or absent)."""
+    return int(op[OP_GROUP]) if op[OP_OPEN] != 0.0 else -1
+
+
 def group_of(op: np.ndarray) -> int:
     """Wall group (row of ``kin``) of the hull ``op`` belongs to."""
     return int(op[OP_GROUP])
@@ -199,6 +205,23 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
     uc = ui + f * (uj - ui)
     wc = wi + f * (wj - wi)
     return op[OP_SIDE] * uc > 0.0 and op[OP_W_LOW] <= wc <= op[OP_W_HIGH]
+
+
+@njit(inline="always", **JIT)
+def near_opening(x, z, op, pad):
+    """True when a particle at ``(x, z)`` is within ``pad`` of the reach of the open
+    opening's quick-test circle (or anywhere when the circle is not set). A particle
+    beyond the reach (``pad = 0``) sees only its own compartment: :func:`crosses_opening`
+    is false for every pair it begins. A wall particle whose fluid neighbours begin the
+    pairs is tested with ``pad`` = the kernel support."""
+    if op[OP_OPEN] == 0.0:
+        return False
+    if op[OP_REACH2] == 0.0:
+        return True
+    ex = x - op[OP_CENTRE_X]
+    ez = z - op[OP_CENTRE_Z]
+    reach = math.sqrt(op[OP_REACH2]) + pad
+    return ex * ex + ez * ez <= reach * reach
 
 
 @njit(**JIT)

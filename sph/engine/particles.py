@@ -30,6 +30,8 @@ INT_FIELDS = (
     "comp",  # compartment: a pair interacts only when compartments match
     "pid",  # original index, stable across sorting
 )
+#: particles per block of the permutation
+_GATHER_BLOCK = 2048
 _FI = {n: k for k, n in enumerate(FLOAT_FIELDS)}
 _II = {n: k for k, n in enumerate(INT_FIELDS)}
 
@@ -99,9 +101,13 @@ class Particles:
 
 @njit(**JIT_PARALLEL)
 def _gather(src, dst, order):
+    """``dst[:, k] = src[:, order[k]]``, field by field within blocks of particles (each
+    field's writes contiguous, its reads nearly so: ``order`` is close to the identity)."""
     nf = src.shape[0]
     n = src.shape[1]
-    for k in prange(n):
-        o = order[k]
+    for b in prange((n + _GATHER_BLOCK - 1) // _GATHER_BLOCK):
+        lo = b * _GATHER_BLOCK
+        hi = min(n, lo + _GATHER_BLOCK)
         for f in range(nf):
-            dst[f, k] = src[f, o]
+            for k in range(lo, hi):
+                dst[f, k] = src[f, order[k]]

@@ -169,6 +169,7 @@ class Stepper:
         self._grx = np.zeros(n)
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
+        self._vol = np.zeros(n)
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
@@ -203,7 +204,7 @@ class Stepper:
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
-                 self.op, self.kin, self.shift, p.sx, p.sz)
+                 self.op, self.kin, self.shift, p.sx, p.sz, self._vol)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,

@@ -27,9 +27,10 @@ import numpy as np
 from numba import prange
 
 from sph.engine.eos import tait_density
-from sph.engine.jit import JIT_PARALLEL, njit
+from sph.engine.jit import JIT_PARALLEL, JIT_PARALLEL_PAIR, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
-from sph.engine.opening import wall_hidden
+from sph.engine.neighbours import BLOCK, gather_neighbours, max_candidates
+from sph.engine.opening import group_of_op, near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
@@ -60,52 +61,70 @@ def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
         vz[i] = kin[b, 4] + om * rx
 
 
-@njit(**JIT_PARALLEL)
+@njit(**JIT_PARALLEL_PAIR)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
                   kin, rho0, b_coef, gamma, vol0, op):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
     its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
-    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
-    tension would attract the fluid through itself."""
+    count (:func:`sph.engine.opening.wall_hidden`; tested only for the damaged hull's wall
+    particles within reach of the opening, the others sum over the fluid neighbours
+    gathered by :func:`sph.engine.neighbours.gather_neighbours`). The pressure is clamped at
+    zero: a wall in tension would attract the fluid through itself."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
-    for i in prange(n):
-        if kind[i] != WALL:
-            continue
-        b = body[i]
-        xi = x[i]
-        zi = z[i]
-        rx = xi - kin[b, 0]
-        rz = zi - kin[b, 1]
-        om2 = kin[b, 5] * kin[b, 5]
-        al = kin[b, 8]
-        abx = kin[b, 6] - al * rz - om2 * rx
-        abz = kin[b, 7] + al * rx - om2 * rz
-        ex = gx - abx
-        ez = gz - abz
-        ci = comp[i]
-        sw = 0.0
-        sp = 0.0
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != FLUID or comp[j] != ci:
-                    continue
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
-                    continue
-                w = w_r2(r2, kp) * m[j] / rho[j]
-                sw += w
-                sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
-        # a wall in tension would pull fluid through itself (a vortex core reaching a wall
-        # takes negative pressure with it); walls push, they do not pull
-        p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
-        rho[i] = tait_density(p[i], rho0, b_coef, gamma)
-        m[i] = rho[i] * vol0
+    support = math.sqrt(r2max)
+    group = group_of_op(op)
+    cap = max_candidates(cell_start, ncx)
+    for blk in prange((n + BLOCK - 1) // BLOCK):
+        buf = np.empty(cap, dtype=np.int64)
+        for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
+            if kind[i] != WALL:
+                continue
+            b = body[i]
+            xi = x[i]
+            zi = z[i]
+            rx = xi - kin[b, 0]
+            rz = zi - kin[b, 1]
+            om2 = kin[b, 5] * kin[b, 5]
+            al = kin[b, 8]
+            abx = kin[b, 6] - al * rz - om2 * rx
+            abz = kin[b, 7] + al * rx - om2 * rz
+            ex = gx - abx
+            ez = gz - abz
+            sw = 0.0
+            sp = 0.0
+            if b == group and near_opening(xi, zi, op, support):
+                ci = comp[i]
+                c = cell_of[i]
+                for row in (c - ncx, c, c + ncx):
+                    for j in range(cell_start[row - 1], cell_start[row + 2]):
+                        if kind[j] != FLUID or comp[j] != ci:
+                            continue
+                        dx = xi - x[j]
+                        dz = zi - z[j]
+                        r2 = dx * dx + dz * dz
+                        if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
+                            continue
+                        w = w_r2(r2, kp) * m[j] / rho[j]
+                        sw += w
+                        sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
+            else:
+                nn = gather_neighbours(i, x, z, comp, kind, FLUID, cell_of, cell_start, ncx,
+                                       r2max, buf)
+                for k in range(nn):
+                    j = buf[k]
+                    dx = xi - x[j]
+                    dz = zi - z[j]
+                    w = w_r2(dx * dx + dz * dz, kp) * m[j] / rho[j]
+                    sw += w
+                    sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
+            # a wall in tension would pull fluid through itself (a vortex core reaching a
+            # wall takes negative pressure with it); walls push, they do not pull
+            p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
+            rho[i] = tait_density(p[i], rho0, b_coef, gamma)
+            m[i] = rho[i] * vol0
 
 
 @njit(**JIT_PARALLEL)

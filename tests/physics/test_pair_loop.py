@@ -159,7 +159,7 @@ def _interact(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
     interact(st["x"], st["z"], st["vx"], st["vz"], st["rho"], st["p"], st["m"], st["kind"],
              st["body"], st["comp"], grid.cell_of, grid.cell_start, grid.ncx, kp, visc, gx, gz,
              delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"], out["drho"], op, kin,
-             shift, out["sx"], out["sz"])
+             shift, out["sx"], out["sz"], np.empty(n))
     return out
 
 

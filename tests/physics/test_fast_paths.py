@@ -1,0 +1,133 @@
+"""The engine's fast pair loops against their references on a damaged ship with its opening
+open.
+
+:func:`sph.engine.fluid.interact` sums most fluid particles over a branch-free gathered
+neighbour list with a loop per kernel, and keeps the general loop (every pair rule at every
+candidate) for particles within reach of the opening; :func:`interact_reference` sums every
+particle the general way and is the oracle here. :func:`sph.engine.walls.wall_pressure`
+is checked against a brute-force sum over all particles. In float64 the two orders of
+summation agree to round-off: the tolerance is 1e-10 of the largest value of each field.
+(The shifts of packed particles are checked branch by branch in ``test_pair_loop``.)
+"""
+
+import numpy as np
+import pytest
+
+from sph.cases import builtin
+from sph.driver import Simulation
+from sph.engine.eos import tait_density
+from sph.engine.fluid import interact, interact_reference
+from sph.engine.kernels import w_r2
+from sph.engine.neighbours import CellGrid, gather_neighbours, max_candidates
+from sph.engine.opening import near_opening, wall_hidden
+from sph.engine.particles import FLUID, WALL
+from sph.engine.shifting import shift_params
+from sph.engine.walls import wall_pressure
+
+RTOL = 1e-10
+
+
+def _flooding_ship(kernel):
+    over = [("numerics.dx", 0.8), ("numerics.threads", 2),
+            ("geometry.damage.time_periods", 0.001)]
+    if kernel == "wendland":
+        over += [("numerics.kernel", "wendland"), ("numerics.h_factor", 1.41)]
+    sim = Simulation(builtin("damaged_ship", over))
+    sim.evaluate()
+    for _ in range(40):
+        sim.advance()
+    assert sim.op[0] == 1.0, "the opening should be open"
+    return sim
+
+
+@pytest.fixture(scope="module", params=["gaussian", "wendland"])
+def ship(request):
+    return _flooding_ship(request.param)
+
+
+def _derivatives(fn, sim, delta, ddt, shifting, extra=()):
+    p, g = sim.parts, sim.grid
+    n = p.n
+    out = [np.zeros(n) for _ in range(5)]
+    rng = np.random.default_rng(3)
+    grx, grz = rng.normal(0, 20.0, n), rng.normal(0, 20.0, n)
+    shift = shift_params(shifting, 0.2, 10.0, sim.kp, sim.cfg.numerics.dx)
+    fn(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+       g.cell_start, g.ncx, sim.kp, sim.visc_coef, sim.gx, sim.gz, delta * sim.h * sim.c0,
+       (1000.0 / sim.c0**2) if ddt else 0.0, grx, grz, *out[:3], sim.op, sim.kin, shift,
+       *out[3:], *extra)
+    return out
+
+
+@pytest.mark.parametrize("delta, ddt, shifting", [(0.0, False, 0.0), (0.1, True, 1.0),
+                                                   (0.1, False, 4.0)])
+def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
+    p = ship.parts
+    fluid = p.kind == FLUID
+    near = sum(near_opening(p.x[i], p.z[i], ship.op, 0.0) for i in np.nonzero(fluid)[0])
+    assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
+    got = _derivatives(interact, ship, delta, ddt, shifting, (np.empty(p.n),))
+    want = _derivatives(interact_reference, ship, delta, ddt, shifting)
+    for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want):
+        scale = np.abs(b[fluid]).max()
+        if name in ("ax", "az", "drho"):
+            assert scale > 0.0, name
+        np.testing.assert_allclose(a[fluid], b[fluid], rtol=0, atol=RTOL * scale,
+                                   err_msg=name)
+
+
+def test_wall_pressure_matches_a_sum_over_all_particles(ship):
+    """Eq. 11 with the wall's acceleration, fluid of the wall's compartment only, fluid
+    behind the open opening hidden: summed here over every particle of the ship."""
+    p, g = ship.parts, ship.grid
+    fl = ship.cfg.fluid
+    rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
+    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
+                  g.ncx, ship.kp, ship.gx, ship.gz, ship.kin, fl.rho0, ship.b, fl.gamma,
+                  ship.cfg.numerics.dx**2, ship.op)
+    fluid = np.nonzero(p.kind == FLUID)[0]
+    r2max = ship.kp[3]
+    hidden_seen = 0
+    for i in np.nonzero(p.kind == WALL)[0]:
+        b = p.body[i]
+        k = ship.kin[b]
+        rx, rz = p.x[i] - k[0], p.z[i] - k[1]
+        abx = k[6] - k[8] * rz - k[5] ** 2 * rx
+        abz = k[7] + k[8] * rx - k[5] ** 2 * rz
+        dx, dz = p.x[i] - p.x[fluid], p.z[i] - p.z[fluid]
+        r2 = dx * dx + dz * dz
+        sel = np.nonzero((r2 < r2max) & (p.comp[fluid] == p.comp[i]))[0]
+        keep = [s for s in sel if not wall_hidden(p.x[fluid[s]], p.z[fluid[s]], p.x[i],
+                                                  p.z[i], b, ship.op, ship.kin)]
+        hidden_seen += len(sel) - len(keep)
+        j = fluid[keep]
+        w = np.array([w_r2(v, ship.kp) for v in r2[keep]]) * p.m[j] / p.rho[j]
+        sw = w.sum()
+        sp = (w * (p.p[j] + p.rho[j] * ((ship.gx - abx) * dx[keep]
+                                        + (ship.gz - abz) * dz[keep]))).sum()
+        want = max(sp / sw, 0.0) if sw > 1e-6 else 0.0
+        assert pres[i] == pytest.approx(want, rel=1e-10, abs=1e-10 * fl.rho0 * 9.81), i
+        assert rho[i] == pytest.approx(tait_density(want, fl.rho0, ship.b, fl.gamma),
+                                       rel=1e-12)
+    assert hidden_seen > 0  # the opening hides some fluid from the hull's wall layers
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_gather_neighbours_finds_the_neighbours_of_the_compartment(seed):
+    rng = np.random.default_rng(seed)
+    n, r = 3000, 0.1
+    x, z = rng.uniform(0, 1, n), rng.uniform(0, 1, n)
+    comp = rng.integers(0, 3, n).astype(np.int32)
+    kind = rng.integers(0, 2, n).astype(np.int32)
+    grid = CellGrid(0.0, 1.0, 0.0, 1.0, r)
+    assert grid.sort(x, z) == 0
+    x, z, comp, kind = (a[grid.order].copy() for a in (x, z, comp, kind))
+    buf = np.empty(max_candidates(grid.cell_start, grid.ncx), dtype=np.int64)
+    for want_kind in (-1, FLUID, WALL):
+        for i in rng.integers(0, n, 200):
+            nn = gather_neighbours(i, x, z, comp, kind, want_kind, grid.cell_of,
+                                   grid.cell_start, grid.ncx, r * r, buf)
+            brute = ((x - x[i]) ** 2 + (z - z[i]) ** 2 < r * r) & (comp == comp[i])
+            if want_kind >= 0:
+                brute &= kind == want_kind
+            assert list(buf[:nn]) == list(np.nonzero(brute)[0])
