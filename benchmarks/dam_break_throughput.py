@@ -6,7 +6,15 @@ and the improved Gaussian (h = 1.23 dx, support 3h), after a warm-up that compil
 and lets the column start moving. Prints one line per configuration and, as its last line,
 a JSON object with every result (particles counted fluid + wall; median of ``--repeat`` runs).
 
+``--compare`` measures against references instead, each alternating with this tree's run
+for ``--rounds`` rounds, one child process each (:mod:`compare`): the Wendland case at about
+80 000 particles against the machine yardstick (:mod:`yardstick`, a bare numba pair loop
+on 80 000 particles, the same thread count), and the Gaussian case at the same size against
+commit ``--baseline`` (default 846fe50, release 0.1.0) checked out in a git worktree. The
+last line then holds both rates and the median ratio of each comparison.
+
     python benchmarks/dam_break_throughput.py [--threads 2] [--steps 200] [--repeat 3]
+    python benchmarks/dam_break_throughput.py --compare [--rounds 3] [--baseline 846fe50]
 """
 
 from __future__ import annotations
@@ -15,6 +23,9 @@ import argparse
 import json
 import statistics
 import time
+from pathlib import Path
+
+from compare import interleave, run_child, summary, worktree
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -49,7 +60,13 @@ def main() -> None:
     ap.add_argument("--filter", default="mls", choices=("mls", "delta", "ddt", "none"))
     ap.add_argument("--sizes", default="20k,80k")
     ap.add_argument("--kernels", default="wendland,gaussian")
+    ap.add_argument("--compare", action="store_true")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--baseline", default="846fe50")
     args = ap.parse_args()
+    if args.compare:
+        compare_with(args)
+        return
     results = {}
     for size in args.sizes.split(","):
         for kernel in args.kernels.split(","):
@@ -67,6 +84,34 @@ def main() -> None:
     results["threads"] = args.threads
     results["density_filter"] = args.filter
     results["steps"] = args.steps
+    print(json.dumps(results))
+
+
+def compare_with(args) -> None:
+    here = Path(__file__).resolve().parent
+    common = ["--threads", str(args.threads), "--steps", str(args.steps), "--warmup",
+              str(args.warmup), "--repeat", "1", "--filter", args.filter, "--sizes", "80k"]
+
+    def own(kernel):
+        res = run_child(Path(__file__), common + ["--kernels", kernel])
+        return res[f"{kernel}_80k"]["particle_steps_per_s"]
+
+    results = {"threads": args.threads, "density_filter": args.filter, "steps": args.steps}
+    mine, ref = interleave(args.rounds, lambda: own("wendland"), lambda: 1e6 * run_child(
+        here / "yardstick.py", ["--threads", str(args.threads), "--repeat", "1"])[
+            "yardstick_mps"])
+    results["wendland_80k_vs_yardstick"] = summary(mine, ref)
+    if args.baseline != "none":
+        base = worktree(args.baseline)
+        mine, ref = interleave(args.rounds, lambda: own("gaussian"), lambda: run_child(
+            base / "benchmarks" / "dam_break_throughput.py", common + ["--kernels", "gaussian"],
+            root=base)["gaussian_80k"]["particle_steps_per_s"])
+        results["gaussian_80k_vs_" + args.baseline] = summary(mine, ref)
+    for key, res in results.items():
+        if isinstance(res, dict):
+            print(f"{key:32s} {res['rate'] / 1e6:6.2f} against {res['reference_rate'] / 1e6:6.2f}"
+                  f" M particle-steps/s: ratio {res['ratio']:.3f} (per round: "
+                  f"{', '.join(f'{r:.2f}' for r in res['ratios'])})", flush=True)
     print(json.dumps(results))
 
 

@@ -8,7 +8,13 @@ by default: the line-of-sight tests at the opening run from the start), warms up
 ``advance`` wrapped in a timer. Prints the stages by time and, as its last line, a JSON
 object (median rate over ``--repeat`` runs, and the stage times of the last one).
 
+With ``--baseline COMMIT`` (default: 846fe50, release 0.1.0; ``none`` to skip) the same
+measurement of that commit, checked out in a git worktree, alternates with this tree's for
+``--rounds`` rounds, one child process each (:mod:`compare`); the last line then also holds
+both median rates and the median of the per-round ratios.
+
     python benchmarks/ship_step_profile.py [--threads 1] [--steps 300] [--repeat 3]
+        [--baseline 846fe50 | none] [--rounds 5]
 """
 
 from __future__ import annotations
@@ -18,6 +24,9 @@ import collections
 import json
 import statistics
 import time
+from pathlib import Path
+
+from compare import interleave, run_child, summary, worktree
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -85,7 +94,12 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--warmup", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--baseline", default="846fe50")
+    ap.add_argument("--rounds", type=int, default=5)
     args = ap.parse_args()
+    if args.baseline != "none":
+        compare_with(args)
+        return
     rates = []
     for _ in range(args.repeat):
         n, rate, shares = measure(args.dx, args.damage_period, args.steps, args.warmup,
@@ -100,6 +114,38 @@ def main() -> None:
                       [round(r) for r in rates], "threads": args.threads, "dx": args.dx,
                       "shifting": args.shifting, "stage_shares": {k: round(v, 4) for k, v
                                                                    in shares.items()}}))
+
+
+def compare_with(args) -> None:
+    common = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
+              str(args.damage_period), "--shifting", str(args.shifting), "--steps",
+              str(args.steps), "--warmup", str(args.warmup), "--repeat", "1"]
+    base = worktree(args.baseline)
+    last = {}
+
+    def own():
+        last.update(run_child(Path(__file__), common + ["--baseline", "none"]))
+        return last["particle_steps_per_s"]
+
+    def reference():
+        return run_child(base / "benchmarks" / "ship_step_profile.py", common,
+                         root=base)["particle_steps_per_s"]
+
+    mine, ref = interleave(args.rounds, own, reference)
+    out = summary(mine, ref)
+    for name, share in last["stage_shares"].items():
+        print(f"{name:32s} {100 * share:5.1f} %")
+    print(f"damaged_ship dx = {args.dx:g} m  N = {last['particles']}  {args.threads} "
+          f"thread(s): this tree {out['rate'] / 1e6:.3f}, {args.baseline} "
+          f"{out['reference_rate'] / 1e6:.3f} M particle-steps/s (medians of {args.rounds} "
+          f"alternating runs); ratio {out['ratio']:.2f} (per round: "
+          f"{', '.join(f'{r:.2f}' for r in out['ratios'])})")
+    print(json.dumps({"particles": last["particles"], "threads": args.threads, "dx": args.dx,
+                      "particle_steps_per_s": round(out["rate"]),
+                      "baseline": args.baseline,
+                      "baseline_particle_steps_per_s": round(out["reference_rate"]),
+                      "ratio": out["ratio"], "ratios": out["ratios"],
+                      "stage_shares": last["stage_shares"]}))
 
 
 if __name__ == "__main__":

@@ -290,7 +290,13 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
         ci = comp[i]
         if kind[i] != FLUID or (ci != a and ci != b):
             continue
-        u, w = keel_frame(x[i], z[i], op, kin)
+        rx = x[i] - kin[g, 0]
+        rz = z[i] - kin[g, 1]
+        u = ct * rx + st * rz  # the keel frame (keel_frame), with the angle's cos and sin
+        w = -st * rx + ct * rz + op[OP_KG]  # taken once
+        # beyond the outline's bounding box by the reach: |sdf| >= reach, nothing to do
+        if abs(u) - s[0] >= reach or s[1] - w >= reach or w - s[2] >= reach:
+            continue
         d = sdf(u, w, s)
         if abs(d) >= reach or (d < 0.0) == (ci == b):
             continue

@@ -127,7 +127,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
             m[i] = rho[i] * vol0
 
 
-@njit(**JIT_PARALLEL)
+@njit(**JIT_PARALLEL_PAIR)
 def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
                 n_body, fx, fz, mom, pf, scale, op):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
@@ -138,37 +138,55 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
     Per-particle values are reduced per group afterwards; the moment is taken about the
     group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
     ``(n, 3)`` work array for the per-particle values (reused between steps); the force of
-    the fluid of compartment ``c`` is multiplied by ``scale[c]``."""
+    the fluid of compartment ``c`` is multiplied by ``scale[c]``. As in
+    :func:`wall_pressure`, only the damaged hull's wall particles within reach of an open
+    opening test which fluid it hides."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
-    for i in prange(n):
-        if kind[i] != WALL or body[i] == 0:
-            continue
-        xi = x[i]
-        zi = z[i]
-        ci = comp[i]
-        b = body[i]
-        vi = m[i] / rho[i]
-        sx = 0.0
-        sz = 0.0
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != FLUID or comp[j] != ci:
-                    continue
+    support = math.sqrt(r2max)
+    group = group_of_op(op)
+    cap = max_candidates(cell_start, ncx)
+    for blk in prange((n + BLOCK - 1) // BLOCK):
+        buf = np.empty(cap, dtype=np.int64)
+        for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
+            if kind[i] != WALL or body[i] == 0:
+                continue
+            xi = x[i]
+            zi = z[i]
+            ci = comp[i]
+            b = body[i]
+            vi = m[i] / rho[i]
+            sx = 0.0
+            sz = 0.0
+            if b == group and near_opening(xi, zi, op, support):
+                nn = 0
+                c = cell_of[i]
+                for row in (c - ncx, c, c + ncx):
+                    for j in range(cell_start[row - 1], cell_start[row + 2]):
+                        if kind[j] != FLUID or comp[j] != ci:
+                            continue
+                        dx = xi - x[j]
+                        dz = zi - z[j]
+                        if (dx * dx + dz * dz >= r2max
+                                or wall_hidden(x[j], z[j], xi, zi, b, op, kin)):
+                            continue
+                        buf[nn] = j
+                        nn += 1
+            else:
+                nn = gather_neighbours(i, x, z, comp, kind, FLUID, cell_of, cell_start, ncx,
+                                       r2max, buf)
+            for k in range(nn):
+                j = buf[k]
                 dx = xi - x[j]
                 dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
-                    continue
                 # as in the momentum equation, fluid tension does not pull on a wall
-                fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+                fw = f_r2(dx * dx + dz * dz, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
                 sx += fw * dx
                 sz += fw * dz
-        vi *= scale[ci]
-        pf[i, 0] = -vi * sx
-        pf[i, 1] = -vi * sz
-        pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]
+            vi *= scale[ci]
+            pf[i, 0] = -vi * sx
+            pf[i, 1] = -vi * sz
+            pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]
     fx[:] = 0.0
     fz[:] = 0.0
     mom[:] = 0.0

@@ -5,7 +5,8 @@ open.
 neighbour list with a loop per kernel, and keeps the general loop (every pair rule at every
 candidate) for particles within reach of the opening; :func:`interact_reference` sums every
 particle the general way and is the oracle here. :func:`sph.engine.walls.wall_pressure`
-is checked against a brute-force sum over all particles. In float64 the two orders of
+and :func:`sph.engine.walls.wall_forces` are checked against brute-force sums over all
+particles. In float64 the two orders of
 summation agree to round-off: the tolerance is 1e-10 of the largest value of each field.
 (The shifts of packed particles are checked branch by branch in ``test_pair_loop``.)
 """
@@ -17,12 +18,12 @@ from sph.cases import builtin
 from sph.driver import Simulation
 from sph.engine.eos import tait_density
 from sph.engine.fluid import interact, interact_reference
-from sph.engine.kernels import w_r2
+from sph.engine.kernels import f_r2, w_r2
 from sph.engine.neighbours import CellGrid, gather_neighbours, max_candidates
 from sph.engine.opening import near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
 from sph.engine.shifting import shift_params
-from sph.engine.walls import wall_pressure
+from sph.engine.walls import wall_forces, wall_pressure
 
 RTOL = 1e-10
 
@@ -131,3 +132,33 @@ def test_gather_neighbours_finds_the_neighbours_of_the_compartment(seed):
             if want_kind >= 0:
                 brute &= kind == want_kind
             assert list(buf[:nn]) == list(np.nonzero(brute)[0])
+
+
+def test_wall_forces_match_a_sum_over_all_particles(ship):
+    """Eq. 10 per wall particle of the hull: pressure of both ends (fluid tension counts as
+    zero), fluid behind the open opening hidden, summed over every particle."""
+    p, g = ship.parts, ship.grid
+    nb = len(ship.kin)
+    fx, fz, mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
+    pf = np.zeros((p.n, 3))
+    scale = np.ones(int(p.comp.max()) + 1)
+    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
+                g.ncx, ship.kp, ship.kin, nb, fx, fz, mom, pf, scale, ship.op)
+    fluid = np.nonzero(p.kind == FLUID)[0]
+    hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]
+    assert len(hull) > 0
+    want = np.zeros((len(hull), 2))
+    for row, i in enumerate(hull):
+        dx, dz = p.x[i] - p.x[fluid], p.z[i] - p.z[fluid]
+        r2 = dx * dx + dz * dz
+        sel = [s for s in np.nonzero((r2 < ship.kp[3]) & (p.comp[fluid] == p.comp[i]))[0]
+               if not wall_hidden(p.x[fluid[s]], p.z[fluid[s]], p.x[i], p.z[i], p.body[i],
+                                  ship.op, ship.kin)]
+        j = fluid[sel]
+        fw = np.array([f_r2(v, ship.kp) for v in r2[sel]]) * (
+            p.p[i] + np.maximum(p.p[j], 0.0)) * p.m[j] / p.rho[j]
+        want[row] = -p.m[i] / p.rho[i] * np.array([(fw * dx[sel]).sum(),
+                                                   (fw * dz[sel]).sum()])
+    scale_f = np.abs(want).max()
+    assert scale_f > 0.0
+    np.testing.assert_allclose(pf[hull, :2], want, rtol=0, atol=RTOL * scale_f)
