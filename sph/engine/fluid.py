@@ -56,9 +56,19 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PAIR, JIT_PARALLEL, JIT_PARALLEL_PAIR, njit
-from sph.engine.kernels import (E9, KP_ALPHA, KP_H, KP_INV_H2, KP_KIND, KP_R2MAX, exp_neg,
-                                f_r2, w_given_f, w_r2)
-from sph.engine.neighbours import BLOCK, gather_neighbours, max_candidates
+from sph.engine.kernels import (
+    E9,
+    KP_ALPHA,
+    KP_H,
+    KP_INV_H2,
+    KP_KIND,
+    KP_R2MAX,
+    exp_neg,
+    f_r2,
+    w_given_f,
+    w_r2,
+)
+from sph.engine.neighbours import BLOCK
 from sph.engine.opening import near_opening, passable, wall_hidden
 from sph.engine.particles import FLUID
 from sph.engine.shifting import SH_COEF, shift_vector
@@ -127,12 +137,31 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
 
 
 @njit(inline="always", **JIT_PAIR)
+def _neighbours_of(i, x, z, comp, start, index, r2max, buf):
+    """The entries of particle ``i``'s Verlet list within ``sqrt(r2max)`` and of its
+    compartment, into ``buf``; returns their number. Every entry is stored and the count
+    advances only for a neighbour: no branch, so the one entry in four or five beyond the
+    support costs no mispredicted jump."""
+    xi = x[i]
+    zi = z[i]
+    ci = comp[i]
+    nn = 0
+    for k in range(start[i], start[i + 1]):
+        j = index[k]
+        dx = xi - x[j]
+        dz = zi - z[j]
+        buf[nn] = j
+        nn += 1 if (dx * dx + dz * dz < r2max) & (comp[j] == ci) else 0
+    return nn
+
+
+@njit(inline="always", **JIT_PAIR)
 def _sums_gaussian(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz):
-    """The pair sums of :func:`_sums_general` over the neighbours ``buf[:nn]`` of a fluid
-    particle that cannot see through a damage opening (:func:`gather_neighbours`: the
-    particles of its compartment within the support, itself included: the self pair adds
-    its kernel value to the kernel sum and nothing else), for the improved Gaussian kernel.
-    No branch but the fluid/wall selects; ``vol = m / rho``; ``hx dx + hz dz`` is the
+    """The pair sums of :func:`_sums_general` for a fluid particle that cannot see through
+    a damage opening, over its neighbours ``buf[:nn]`` (:func:`_neighbours_of`: the
+    particles of its compartment within the support, itself included; the self pair adds
+    its kernel value to the kernel sum and nothing else), for the improved Gaussian kernel,
+    with no branch but the fluid/wall selects. ``vol = m / rho``; ``hx dx + hz dz`` is the
     hydrostatic density difference of the ``ddt`` diffusive term (0: none)."""
     h2 = kp[KP_H] * kp[KP_H]
     eps2 = 1.0e-4 * h2
@@ -223,16 +252,16 @@ def _sums_wendland(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef
 @njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, vol):
+             sx, sz, vol, start, index):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
     A fluid particle within reach of an open damage opening, or any fluid particle under
-    the renormalised diffusive term, takes every pair rule at every candidate
-    (:func:`_sums_general`). All others, the vast majority, first gather the neighbours of
-    their compartment without a branch (:func:`sph.engine.neighbours.gather_neighbours`)
-    and then sum over those alone with the kernel's own loop (:func:`_sums_gaussian`,
-    :func:`_sums_wendland`). :func:`interact_reference` sums every particle the general way.
+    the renormalised diffusive term, takes every pair rule at every candidate of the cells
+    (:func:`_sums_general`). All others, the vast majority, sum over their Verlet list
+    ``index[start[i]:start[i + 1]]`` (:class:`sph.engine.neighbours.NeighbourList`) with
+    the kernel's own loop (:func:`_sums_gaussian`, :func:`_sums_wendland`), in the same
+    order. :func:`interact_reference` sums every particle the general way.
 
     Parameters
     ----------
@@ -254,6 +283,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
         neighbours again for the shift (:func:`sph.engine.shifting.shift_vector`).
     vol : array
         Work array for the particle volumes ``m / rho`` (filled here).
+    start, index : arrays
+        The Verlet lists (:class:`sph.engine.neighbours.NeighbourList`).
     """
     n = x.shape[0]
     for j in prange(n):
@@ -264,9 +295,11 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     hz = -ddt_rho * gz
     gauss = kp[KP_KIND] == 0.0
     r2max = kp[KP_R2MAX]
-    cap = max_candidates(cell_start, ncx)
+    longest = 0
+    for i in range(n):
+        longest = max(longest, start[i + 1] - start[i])
     for b in prange((n + BLOCK - 1) // BLOCK):
-        buf = np.empty(cap, dtype=np.int64)
+        buf = np.empty(longest, dtype=np.int64)
         for i in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
             if kind[i] != FLUID:
                 continue
@@ -275,8 +308,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                     i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
                     kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin)
             else:
-                nn = gather_neighbours(i, x, z, comp, kind, -1, cell_of, cell_start, ncx,
-                                       r2max, buf)
+                nn = _neighbours_of(i, x, z, comp, start, index, r2max, buf)
                 if gauss:
                     accx, accz, div, diff, shep = _sums_gaussian(
                         i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz)

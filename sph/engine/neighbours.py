@@ -13,14 +13,17 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import prange
 
-from sph.engine.jit import JIT, njit
+from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.particles import FLUID
 
-
-#: particles per block of the parallel pair loops that keep a neighbour buffer
-#: (:func:`gather_neighbours`). The split is fixed, so results do not depend on the number
-#: of threads.
+#: particles per block of a parallel pair loop that keeps a work buffer per block (a fixed
+#: split, so that results do not depend on the number of threads)
 BLOCK = 256
+#: the skin of the Verlet lists (:class:`NeighbourList`) and of the cells, as a fraction of
+#: the kernel support: lists and cells are rebuilt when a particle has moved half of it
+SKIN = 0.15
 
 
 class CellGrid:
@@ -103,41 +106,88 @@ def neighbour_count(x, z, cell_of, cell_start, ncx, r2max, i):
     return cnt
 
 
-@njit(**JIT)
-def max_candidates(cell_start, ncx):
-    """The most particles a pair loop visits for one particle: the largest sum over the
-    three rows of three cells around any interior cell (the size of a neighbour buffer,
-    :func:`gather_neighbours`)."""
-    most = 0
-    ncells = cell_start.shape[0] - 1
-    for c in range(ncx + 1, ncells - ncx - 1):
+class NeighbourList:
+    """Verlet lists: for each fluid particle the particles (any kind, any compartment), for
+    each wall particle the fluid particles (any compartment), within the kernel support
+    plus a skin, in cell order, at the positions of the last sort.
+
+    While no particle has moved more than half the skin since then
+    (:func:`moved_or_outside`), every pair within the support is in the list, so the pair
+    loop visits the list instead of the three rows of cells: about a third of the
+    candidates for the Gaussian kernel, and no sort or permutation of the particles. The
+    lists are stored compressed: particle ``i``'s neighbours are
+    ``index[start[i]:start[i + 1]]``. A wall particle deep in its wall has an empty list."""
+
+    def __init__(self):
+        self.start = np.zeros(1, dtype=np.int64)
+        self.index = np.zeros(0, dtype=np.int32)
+
+    def build(self, x, z, kind, grid: CellGrid, radius: float) -> None:
+        """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it)."""
+        n = x.shape[0]
+        if self.start.shape[0] != n + 1:
+            self.start = np.zeros(n + 1, dtype=np.int64)
+        _count_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
+                          radius * radius, self.start)
+        total = int(self.start[n])
+        if self.index.shape[0] < total:
+            self.index = np.empty(int(1.2 * total) + 16, dtype=np.int32)
+        _fill_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
+                         radius * radius, self.start, self.index)
+
+
+@njit(**JIT_PARALLEL)
+def _count_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start):
+    n = x.shape[0]
+    for i in prange(n):
         cnt = 0
+        fluid_only = kind[i] != FLUID
+        xi = x[i]
+        zi = z[i]
+        c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
-            cnt += cell_start[row + 2] - cell_start[row - 1]
-        most = max(most, cnt)
-    return most
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                dx = xi - x[j]
+                dz = zi - z[j]
+                ok = (dx * dx + dz * dz < r2) & ((not fluid_only) | (kind[j] == FLUID))
+                cnt += 1 if ok else 0
+        start[i + 1] = cnt
+    start[0] = 0
+    for i in range(n):
+        start[i + 1] += start[i]
 
 
-@njit(inline="always", **JIT)
-def gather_neighbours(i, x, z, comp, kind, want_kind, cell_of, cell_start, ncx, r2max, buf):
-    """Indices of the particles within ``sqrt(r2max)`` of particle ``i`` (itself included)
-    and of its compartment, and of kind ``want_kind`` unless it is negative, into ``buf``
-    (at least :func:`max_candidates` long); returns their number.
+@njit(**JIT_PARALLEL)
+def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
+    for i in prange(x.shape[0]):
+        if start[i + 1] == start[i]:
+            continue
+        fluid_only = kind[i] != FLUID
+        xi = x[i]
+        zi = z[i]
+        k = start[i]
+        end = start[i + 1]
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                dx = xi - x[j]
+                dz = zi - z[j]
+                if k < end:  # the last store of a full list would fall on the next one
+                    index[k] = j
+                ok = (dx * dx + dz * dz < r2) & ((not fluid_only) | (kind[j] == FLUID))
+                k += 1 if ok else 0
 
-    Written without a branch (every candidate is stored, and the count advances only for a
-    neighbour), so that the roughly two candidates in three that lie outside the support
-    cost no mispredicted jump; the pair loop then visits the neighbours only."""
-    xi = x[i]
-    zi = z[i]
-    ci = comp[i]
-    any_kind = want_kind < 0
-    nn = 0
-    c = cell_of[i]
-    for row in (c - ncx, c, c + ncx):
-        for j in range(cell_start[row - 1], cell_start[row + 2]):
-            dx = xi - x[j]
-            dz = zi - z[j]
-            buf[nn] = j
-            ok = (dx * dx + dz * dz < r2max) & (comp[j] == ci) & (any_kind | (kind[j] == want_kind))
-            nn += 1 if ok else 0
-    return nn
+
+@njit(**JIT_PARALLEL)
+def moved_or_outside(x, z, xs, zs, half_skin2, xmin, xmax, zmin, zmax):
+    """True when a particle has moved more than ``sqrt(half_skin2)`` from ``(xs, zs)`` or
+    is outside the domain (or NaN): the lists and cells must be rebuilt."""
+    n = x.shape[0]
+    bad = 0
+    for i in prange(n):
+        dx = x[i] - xs[i]
+        dz = z[i] - zs[i]
+        inside = x[i] >= xmin and x[i] <= xmax and z[i] >= zmin and z[i] <= zmax
+        if not (dx * dx + dz * dz <= half_skin2 and inside):
+            bad += 1
+    return bad > 0

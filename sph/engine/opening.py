@@ -105,12 +105,6 @@ def set_open(op: np.ndarray, value: bool) -> None:
     op[OP_OPEN] = 1.0 if value else 0.0
 
 
-@njit(inline="always", **JIT)
-def group_of_op(op):
-    """:func:`group_of` in a numba kernel (-1 when the opening is closed or absent)."""
-    return int(op[OP_GROUP]) if op[OP_OPEN] != 0.0 else -1
-
-
 def group_of(op: np.ndarray) -> int:
     """Wall group (row of ``kin``) of the hull ``op`` belongs to."""
     return int(op[OP_GROUP])

@@ -22,6 +22,7 @@ FLOAT_FIELDS = (
     "ax", "az", "drho",  # time derivatives from the last evaluation
     "sx", "sz",  # particle shift from the last evaluation (sph.engine.shifting)
     "bx", "bz",  # wall particles: position in the frame of their body (rest position)
+    "x_sort", "z_sort",  # position at the last sort by cell (sph.engine.neighbours)
 )
 #: integer fields
 INT_FIELDS = (

@@ -4,7 +4,9 @@ and sampled diagnostics.
 Plain Python that drives the numba kernels of the engine. One step:
 
 1. place moving walls at time ``t`` (:func:`sph.engine.walls.place_walls`),
-2. sort particles by cell (:mod:`sph.engine.neighbours`); stop if any left the domain,
+2. when a particle has moved half the skin since the last sort (or left the domain): sort
+   particles by cell and rebuild the Verlet lists (:mod:`sph.engine.neighbours`); remove
+   the particles that left the domain, or stop,
 3. pressures: Tait EOS for the fluid, extrapolation for the walls,
 4. derivatives (:func:`sph.engine.fluid.interact`; delta-SPH gradient first if selected),
 5. MLS re-initialisation when due, then the Verlet update (:mod:`sph.engine.integrator`).
@@ -28,7 +30,7 @@ from sph.engine.filters import mls_density, renormalised_density_gradient
 from sph.engine.fluid import interact
 from sph.engine.integrator import max_speed_accel, time_step, verlet_update
 from sph.engine.jit import set_threads
-from sph.engine.neighbours import CellGrid
+from sph.engine.neighbours import SKIN, CellGrid, NeighbourList, moved_or_outside
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
 from sph.engine.probes import point_pressures, surface_heights
@@ -106,7 +108,12 @@ class Stepper:
         #: dx, h, kernel parameters, support radius, c0 and B, derived once
         self.scales = Scales.of(num, fl, self.setup.depth)
         self.parts = self.setup.particles
-        self.grid = CellGrid(*self.setup.bounds, self.scales.support)
+        #: cells and Verlet lists reach the kernel support plus a skin (SKIN of it), so that
+        #: they stay valid until a particle has moved half the skin
+        self.list_radius = self.scales.support * (1.0 + SKIN)
+        self.grid = CellGrid(*self.setup.bounds, self.list_radius)
+        self.nlist = NeighbourList()
+        self._listed = None  # the particle set the lists were built for
         self.gx, self.gz = 0.0, -fl.gravity
         self.kin = fixed_kinematics(1 + len(self.setup.motions))
         #: rigid bodies that move under fluid forces (each spans one or more wall groups)
@@ -184,19 +191,15 @@ class Stepper:
             place_walls(p.x, p.z, p.vx, p.vz, p.bx, p.bz, p.kind, p.body, self.kin)
         for event in self.setup.events:
             event.apply(self)  # may replace self.parts
+        self._neighbours()
         p = self.parts
         g = self.grid
-        n_out = g.sort(p.x, p.z)
-        if n_out:
-            self._exclude()
-            p = self.parts
-            g.sort(p.x, p.z)
-        p.permute(g.order)
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                       g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
-                      self.b, fl.gamma, self.cfg.numerics.dx**2, self.op)
+                      self.b, fl.gamma, self.cfg.numerics.dx**2, self.op, self.nlist.start,
+                      self.nlist.index)
         if self.delta_coef and not self.ddt_rho:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz,
@@ -204,13 +207,33 @@ class Stepper:
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
-                 self.op, self.kin, self.shift, p.sx, p.sz, self._vol)
+                 self.op, self.kin, self.shift, p.sx, p.sz, self._vol, self.nlist.start,
+                 self.nlist.index)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                         g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
-                        self._fz, self._mom, self._pf, self.force_scale, self.op)
+                        self._fz, self._mom, self._pf, self.force_scale, self.op,
+                        self.nlist.start, self.nlist.index)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
+
+    def _neighbours(self) -> None:
+        """Sort by cell and rebuild the Verlet lists when a particle has moved half the skin
+        since the last sort, left the domain, or the particle set changed."""
+        p, g = self.parts, self.grid
+        half_skin = 0.5 * (self.list_radius - self.scales.support)
+        if self._listed is p and not moved_or_outside(p.x, p.z, p.x_sort, p.z_sort,
+                                                      half_skin * half_skin, *g.bounds):
+            return
+        if g.sort(p.x, p.z):
+            self._exclude()
+            p = self.parts
+            g.sort(p.x, p.z)
+        p.permute(g.order)
+        p.x_sort[:] = p.x
+        p.z_sort[:] = p.z
+        self.nlist.build(p.x, p.z, p.kind, g, self.list_radius)
+        self._listed = p
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -394,8 +417,11 @@ class Stepper:
                 raise StateMismatch(f"state of {type(obj).__name__} does not fit: {exc}"
                                     ) from exc
         self.record.restore(state)
-        # the cell lists of the restored (already sorted) particles: the counting sort is
-        # stable, so sorting them again leaves their order as it is
-        n_out = self.grid.sort(parts.x, parts.z)
+        # the cells and Verlet lists of the restored particles, as they were built: from the
+        # positions of the last sort (the counting sort is stable, so sorting by them again
+        # leaves the order as it is)
+        n_out = self.grid.sort(parts.x_sort, parts.z_sort)
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
+        self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius)
+        self._listed = parts

@@ -27,10 +27,9 @@ import numpy as np
 from numba import prange
 
 from sph.engine.eos import tait_density
-from sph.engine.jit import JIT_PARALLEL, JIT_PARALLEL_PAIR, njit
+from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
-from sph.engine.neighbours import BLOCK, gather_neighbours, max_candidates
-from sph.engine.opening import group_of_op, near_opening, wall_hidden
+from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
@@ -61,75 +60,81 @@ def place_walls(x, z, vx, vz, bx, bz, kind, body, kin):
         vz[i] = kin[b, 4] + om * rx
 
 
-@njit(**JIT_PARALLEL_PAIR)
+@njit(inline="always", **JIT)
+def _sees_opening(i, b, x, z, op, support):
+    """True when wall particle ``i`` of group ``b`` at ``(x, z)`` belongs to the damaged hull
+    and lies within reach (plus the support) of its open opening: some fluid in its support
+    may be hidden from it (:func:`sph.engine.opening.wall_hidden`)."""
+    return b == int(op[OP_GROUP]) and near_opening(x, z, op, support)
+
+
+@njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
-                  kin, rho0, b_coef, gamma, vol0, op):
+                  kin, rho0, b_coef, gamma, vol0, op, start, index):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
     its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
-    count (:func:`sph.engine.opening.wall_hidden`; tested only for the damaged hull's wall
-    particles within reach of the opening, the others sum over the fluid neighbours
-    gathered by :func:`sph.engine.neighbours.gather_neighbours`). The pressure is clamped at
-    zero: a wall in tension would attract the fluid through itself."""
+    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
+    tension would attract the fluid through itself. The fluid neighbours come from the
+    wall particle's Verlet list ``index[start[i]:start[i + 1]]``
+    (:class:`sph.engine.neighbours.NeighbourList`), or, for the damaged hull's wall particles
+    within reach of an open opening, from the cells with the line-of-sight test."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
-    group = group_of_op(op)
-    cap = max_candidates(cell_start, ncx)
-    for blk in prange((n + BLOCK - 1) // BLOCK):
-        buf = np.empty(cap, dtype=np.int64)
-        for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
-            if kind[i] != WALL:
-                continue
-            b = body[i]
-            xi = x[i]
-            zi = z[i]
-            rx = xi - kin[b, 0]
-            rz = zi - kin[b, 1]
-            om2 = kin[b, 5] * kin[b, 5]
-            al = kin[b, 8]
-            abx = kin[b, 6] - al * rz - om2 * rx
-            abz = kin[b, 7] + al * rx - om2 * rz
-            ex = gx - abx
-            ez = gz - abz
-            sw = 0.0
-            sp = 0.0
-            if b == group and near_opening(xi, zi, op, support):
-                ci = comp[i]
-                c = cell_of[i]
-                for row in (c - ncx, c, c + ncx):
-                    for j in range(cell_start[row - 1], cell_start[row + 2]):
-                        if kind[j] != FLUID or comp[j] != ci:
-                            continue
-                        dx = xi - x[j]
-                        dz = zi - z[j]
-                        r2 = dx * dx + dz * dz
-                        if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
-                            continue
-                        w = w_r2(r2, kp) * m[j] / rho[j]
-                        sw += w
-                        sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
-            else:
-                nn = gather_neighbours(i, x, z, comp, kind, FLUID, cell_of, cell_start, ncx,
-                                       r2max, buf)
-                for k in range(nn):
-                    j = buf[k]
+    for i in prange(n):
+        if kind[i] != WALL:
+            continue
+        b = body[i]
+        xi = x[i]
+        zi = z[i]
+        rx = xi - kin[b, 0]
+        rz = zi - kin[b, 1]
+        om2 = kin[b, 5] * kin[b, 5]
+        al = kin[b, 8]
+        abx = kin[b, 6] - al * rz - om2 * rx
+        abz = kin[b, 7] + al * rx - om2 * rz
+        ex = gx - abx
+        ez = gz - abz
+        ci = comp[i]
+        sw = 0.0
+        sp = 0.0
+        if _sees_opening(i, b, xi, zi, op, support):
+            c = cell_of[i]
+            for row in (c - ncx, c, c + ncx):
+                for j in range(cell_start[row - 1], cell_start[row + 2]):
+                    if kind[j] != FLUID or comp[j] != ci:
+                        continue
                     dx = xi - x[j]
                     dz = zi - z[j]
-                    w = w_r2(dx * dx + dz * dz, kp) * m[j] / rho[j]
+                    r2 = dx * dx + dz * dz
+                    if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
+                        continue
+                    w = w_r2(r2, kp) * m[j] / rho[j]
                     sw += w
                     sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
-            # a wall in tension would pull fluid through itself (a vortex core reaching a
-            # wall takes negative pressure with it); walls push, they do not pull
-            p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
-            rho[i] = tait_density(p[i], rho0, b_coef, gamma)
-            m[i] = rho[i] * vol0
+        else:
+            for k in range(start[i], start[i + 1]):
+                j = index[k]
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                if r2 >= r2max or comp[j] != ci:
+                    continue
+                w = w_r2(r2, kp) * m[j] / rho[j]
+                sw += w
+                sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
+        # a wall in tension would pull fluid through itself (a vortex core reaching a wall
+        # takes negative pressure with it); walls push, they do not pull
+        p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
+        rho[i] = tait_density(p[i], rho0, b_coef, gamma)
+        m[i] = rho[i] * vol0
 
 
-@njit(**JIT_PARALLEL_PAIR)
+@njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
-                n_body, fx, fz, mom, pf, scale, op):
+                n_body, fx, fz, mom, pf, scale, op, start, index):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -138,55 +143,51 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
     Per-particle values are reduced per group afterwards; the moment is taken about the
     group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
     ``(n, 3)`` work array for the per-particle values (reused between steps); the force of
-    the fluid of compartment ``c`` is multiplied by ``scale[c]``. As in
-    :func:`wall_pressure`, only the damaged hull's wall particles within reach of an open
-    opening test which fluid it hides."""
+    the fluid of compartment ``c`` is multiplied by ``scale[c]``. Neighbours as in
+    :func:`wall_pressure`."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
-    group = group_of_op(op)
-    cap = max_candidates(cell_start, ncx)
-    for blk in prange((n + BLOCK - 1) // BLOCK):
-        buf = np.empty(cap, dtype=np.int64)
-        for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
-            if kind[i] != WALL or body[i] == 0:
-                continue
-            xi = x[i]
-            zi = z[i]
-            ci = comp[i]
-            b = body[i]
-            vi = m[i] / rho[i]
-            sx = 0.0
-            sz = 0.0
-            if b == group and near_opening(xi, zi, op, support):
-                nn = 0
-                c = cell_of[i]
-                for row in (c - ncx, c, c + ncx):
-                    for j in range(cell_start[row - 1], cell_start[row + 2]):
-                        if kind[j] != FLUID or comp[j] != ci:
-                            continue
-                        dx = xi - x[j]
-                        dz = zi - z[j]
-                        if (dx * dx + dz * dz >= r2max
-                                or wall_hidden(x[j], z[j], xi, zi, b, op, kin)):
-                            continue
-                        buf[nn] = j
-                        nn += 1
-            else:
-                nn = gather_neighbours(i, x, z, comp, kind, FLUID, cell_of, cell_start, ncx,
-                                       r2max, buf)
-            for k in range(nn):
-                j = buf[k]
+    for i in prange(n):
+        if kind[i] != WALL or body[i] == 0:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        b = body[i]
+        vi = m[i] / rho[i]
+        sx = 0.0
+        sz = 0.0
+        if _sees_opening(i, b, xi, zi, op, support):
+            c = cell_of[i]
+            for row in (c - ncx, c, c + ncx):
+                for j in range(cell_start[row - 1], cell_start[row + 2]):
+                    if kind[j] != FLUID or comp[j] != ci:
+                        continue
+                    dx = xi - x[j]
+                    dz = zi - z[j]
+                    r2 = dx * dx + dz * dz
+                    if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
+                        continue
+                    # as in the momentum equation, fluid tension does not pull on a wall
+                    fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+                    sx += fw * dx
+                    sz += fw * dz
+        else:
+            for k in range(start[i], start[i + 1]):
+                j = index[k]
                 dx = xi - x[j]
                 dz = zi - z[j]
-                # as in the momentum equation, fluid tension does not pull on a wall
-                fw = f_r2(dx * dx + dz * dz, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+                r2 = dx * dx + dz * dz
+                if r2 >= r2max or comp[j] != ci:
+                    continue
+                fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
                 sx += fw * dx
                 sz += fw * dz
-            vi *= scale[ci]
-            pf[i, 0] = -vi * sx
-            pf[i, 1] = -vi * sz
-            pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]
+        vi *= scale[ci]
+        pf[i, 0] = -vi * sx
+        pf[i, 1] = -vi * sz
+        pf[i, 2] = (xi - kin[b, 0]) * pf[i, 1] - (zi - kin[b, 1]) * pf[i, 0]
     fx[:] = 0.0
     fz[:] = 0.0
     mom[:] = 0.0

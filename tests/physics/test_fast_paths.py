@@ -19,7 +19,6 @@ from sph.driver import Simulation
 from sph.engine.eos import tait_density
 from sph.engine.fluid import interact, interact_reference
 from sph.engine.kernels import f_r2, w_r2
-from sph.engine.neighbours import CellGrid, gather_neighbours, max_candidates
 from sph.engine.opening import near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
 from sph.engine.shifting import shift_params
@@ -67,9 +66,10 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
     fluid = p.kind == FLUID
     near = sum(near_opening(p.x[i], p.z[i], ship.op, 0.0) for i in np.nonzero(fluid)[0])
     assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
-    got = _derivatives(interact, ship, delta, ddt, shifting, (np.empty(p.n),))
+    got = _derivatives(interact, ship, delta, ddt, shifting,
+                      (np.empty(p.n), ship.nlist.start, ship.nlist.index))
     want = _derivatives(interact_reference, ship, delta, ddt, shifting)
-    for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want):
+    for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want, strict=True):
         scale = np.abs(b[fluid]).max()
         if name in ("ax", "az", "drho"):
             assert scale > 0.0, name
@@ -85,7 +85,7 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
     wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
                   g.ncx, ship.kp, ship.gx, ship.gz, ship.kin, fl.rho0, ship.b, fl.gamma,
-                  ship.cfg.numerics.dx**2, ship.op)
+                  ship.cfg.numerics.dx**2, ship.op, ship.nlist.start, ship.nlist.index)
     fluid = np.nonzero(p.kind == FLUID)[0]
     r2max = ship.kp[3]
     hidden_seen = 0
@@ -113,27 +113,6 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     assert hidden_seen > 0  # the opening hides some fluid from the hull's wall layers
 
 
-@pytest.mark.parametrize("seed", [0, 1])
-def test_gather_neighbours_finds_the_neighbours_of_the_compartment(seed):
-    rng = np.random.default_rng(seed)
-    n, r = 3000, 0.1
-    x, z = rng.uniform(0, 1, n), rng.uniform(0, 1, n)
-    comp = rng.integers(0, 3, n).astype(np.int32)
-    kind = rng.integers(0, 2, n).astype(np.int32)
-    grid = CellGrid(0.0, 1.0, 0.0, 1.0, r)
-    assert grid.sort(x, z) == 0
-    x, z, comp, kind = (a[grid.order].copy() for a in (x, z, comp, kind))
-    buf = np.empty(max_candidates(grid.cell_start, grid.ncx), dtype=np.int64)
-    for want_kind in (-1, FLUID, WALL):
-        for i in rng.integers(0, n, 200):
-            nn = gather_neighbours(i, x, z, comp, kind, want_kind, grid.cell_of,
-                                   grid.cell_start, grid.ncx, r * r, buf)
-            brute = ((x - x[i]) ** 2 + (z - z[i]) ** 2 < r * r) & (comp == comp[i])
-            if want_kind >= 0:
-                brute &= kind == want_kind
-            assert list(buf[:nn]) == list(np.nonzero(brute)[0])
-
-
 def test_wall_forces_match_a_sum_over_all_particles(ship):
     """Eq. 10 per wall particle of the hull: pressure of both ends (fluid tension counts as
     zero), fluid behind the open opening hidden, summed over every particle."""
@@ -143,7 +122,8 @@ def test_wall_forces_match_a_sum_over_all_particles(ship):
     pf = np.zeros((p.n, 3))
     scale = np.ones(int(p.comp.max()) + 1)
     wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
-                g.ncx, ship.kp, ship.kin, nb, fx, fz, mom, pf, scale, ship.op)
+                g.ncx, ship.kp, ship.kin, nb, fx, fz, mom, pf, scale, ship.op, ship.nlist.start,
+                ship.nlist.index)
     fluid = np.nonzero(p.kind == FLUID)[0]
     hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]
     assert len(hull) > 0

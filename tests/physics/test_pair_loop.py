@@ -16,6 +16,7 @@ equal and opposite, so they leave the fluid's momentum unchanged.
 
 import numpy as np
 import pytest
+from physics_helpers import verlet_lists
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -159,7 +160,8 @@ def _interact(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
     interact(st["x"], st["z"], st["vx"], st["vz"], st["rho"], st["p"], st["m"], st["kind"],
              st["body"], st["comp"], grid.cell_of, grid.cell_start, grid.ncx, kp, visc, gx, gz,
              delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"], out["drho"], op, kin,
-             shift, out["sx"], out["sz"], np.empty(n))
+             shift, out["sx"], out["sz"], np.empty(n), *verlet_lists(st["x"], st["z"],
+                                                                     st["kind"], grid))
     return out
 
 
