@@ -71,7 +71,7 @@ from sph.engine.kernels import (
 from sph.engine.neighbours import BLOCK
 from sph.engine.opening import near_opening, passable, wall_hidden
 from sph.engine.particles import FLUID
-from sph.engine.shifting import SH_COEF, shift_vector
+from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 
 
 @njit(**JIT)
@@ -145,13 +145,13 @@ def _neighbours_of(i, x, z, comp, start, index, r2max, buf):
     xi = x[i]
     zi = z[i]
     ci = comp[i]
-    nn = 0
+    nn = np.uint64(0)  # unsigned indices: no negative-index wrap-around in the loops
     for k in range(start[i], start[i + 1]):
         j = index[k]
         dx = xi - x[j]
         dz = zi - z[j]
         buf[nn] = j
-        nn += 1 if (dx * dx + dz * dz < r2max) & (comp[j] == ci) else 0
+        nn += np.uint64(1) if (dx * dx + dz * dz < r2max) & (comp[j] == ci) else np.uint64(0)
     return nn
 
 
@@ -295,11 +295,11 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     hz = -ddt_rho * gz
     gauss = kp[KP_KIND] == 0.0
     r2max = kp[KP_R2MAX]
-    longest = 0
+    longest = np.int64(0)
     for i in range(n):
-        longest = max(longest, start[i + 1] - start[i])
+        longest = max(longest, np.int64(start[i + 1] - start[i]))
     for b in prange((n + BLOCK - 1) // BLOCK):
-        buf = np.empty(longest, dtype=np.int64)
+        buf = np.empty(longest, dtype=np.uint32)  # as the lists (NeighbourList)
         for i in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
             if kind[i] != FLUID:
                 continue
@@ -344,5 +344,9 @@ def _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell
     az[i] = accz + gz
     drho[i] = rho[i] * div + delta_coef * diff
     if shift[SH_COEF] != 0.0:
-        sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
-                                    cell_start, ncx, kp, op, kin, shift)
+        if shep > PACKED:  # the gate of shift_vector is closed below PACKED
+            sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
+                                        cell_start, ncx, kp, op, kin, shift)
+        else:
+            sx[i] = 0.0
+            sz[i] = 0.0

@@ -54,7 +54,7 @@ _EXP_STEPS = 64.0
 _EXP_TABLE = np.exp(-np.arange(int(9 * _EXP_STEPS) + 2) / _EXP_STEPS)
 
 
-@njit(**JIT)
+@njit(inline="always", **JIT)
 def exp_neg(s):
     r""":math:`e^{-s}` for :math:`0 \le s \le 9` to a relative 1e-12: a table value at
     the nearest 1/64 below times the 5th-order Taylor series of the remainder
@@ -96,7 +96,7 @@ def support_radius(kp: np.ndarray) -> float:
     return math.sqrt(kp[KP_R2MAX])
 
 
-@njit(**JIT)
+@njit(inline="always", **JIT)
 def w_r2(r2, kp):
     """Kernel value from the squared distance ``r2``; zero outside the support."""
     if r2 >= kp[KP_R2MAX]:
@@ -109,7 +109,7 @@ def w_r2(r2, kp):
     return kp[KP_ALPHA] * t2 * t2 * (2.0 * q + 1.0)
 
 
-@njit(**JIT)
+@njit(inline="always", **JIT)
 def w_given_f(r2, fw, kp):
     """Kernel value at ``r2`` inside the support when its gradient factor ``fw`` is known
     (the Gaussian's value follows from ``fw`` without a second exponential)."""
@@ -118,7 +118,7 @@ def w_given_f(r2, fw, kp):
     return w_r2(r2, kp)
 
 
-@njit(**JIT)
+@njit(inline="always", **JIT)
 def f_r2(r2, kp):
     r"""Gradient factor :math:`F`, :math:`\nabla_i W_{ij} = F\,\mathbf{r}_{ij}`; 0 outside."""
     if r2 >= kp[KP_R2MAX]:

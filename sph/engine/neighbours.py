@@ -118,20 +118,25 @@ class NeighbourList:
     lists are stored compressed: particle ``i``'s neighbours are
     ``index[start[i]:start[i + 1]]``. A wall particle deep in its wall has an empty list."""
 
+    #: unsigned, so that a numba loop indexing with them compiles no negative-index
+    #: wrap-around (it halves the cost of a loop over a list)
+    DTYPE_START = np.uint64
+    DTYPE_INDEX = np.uint32
+
     def __init__(self):
-        self.start = np.zeros(1, dtype=np.int64)
-        self.index = np.zeros(0, dtype=np.int32)
+        self.start = np.zeros(1, dtype=self.DTYPE_START)
+        self.index = np.zeros(0, dtype=self.DTYPE_INDEX)
 
     def build(self, x, z, kind, grid: CellGrid, radius: float) -> None:
         """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it)."""
         n = x.shape[0]
         if self.start.shape[0] != n + 1:
-            self.start = np.zeros(n + 1, dtype=np.int64)
+            self.start = np.zeros(n + 1, dtype=self.DTYPE_START)
         _count_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
                           radius * radius, self.start)
         total = int(self.start[n])
         if self.index.shape[0] < total:
-            self.index = np.empty(int(1.2 * total) + 16, dtype=np.int32)
+            self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
         _fill_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
                          radius * radius, self.start, self.index)
 
@@ -175,7 +180,7 @@ def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
                 if k < end:  # the last store of a full list would fall on the next one
                     index[k] = j
                 ok = (dx * dx + dz * dz < r2) & ((not fluid_only) | (kind[j] == FLUID))
-                k += 1 if ok else 0
+                k += np.uint64(1) if ok else np.uint64(0)
 
 
 @njit(**JIT_PARALLEL)

@@ -181,6 +181,12 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
     s = op[OP_SHAPE:OP_SHAPE_END]
     ui, wi = keel_frame(xi, zi, op, kin)
     uj, wj = keel_frame(xj, zj, op, kin)
+    # the crossing point lies between the ends: both ends on the far side of the hull, or
+    # both below or both above the opening, and it cannot be inside the opening
+    side = op[OP_SIDE]
+    if (side * ui <= 0.0 and side * uj <= 0.0) or max(wi, wj) < op[OP_W_LOW] \
+            or min(wi, wj) > op[OP_W_HIGH]:
+        return False
     di = sdf(ui, wi, s)
     dj = sdf(uj, wj, s)
     if di * dj > 0.0:
