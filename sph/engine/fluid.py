@@ -325,7 +325,7 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_
                        kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op,
                        kin, shift, sx, sz):
     """:func:`interact` with every particle summed by :func:`_sums_general`, one rule at a
-    time (the test oracle of the vectorised loop)."""
+    time (the test oracle of the fast loop)."""
     use_delta = delta_coef != 0.0
     for i in prange(x.shape[0]):
         if kind[i] != FLUID:
