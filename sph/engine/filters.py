@@ -29,7 +29,7 @@ from numba import prange
 
 from sph.engine.jit import JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
-from sph.engine.opening import passable, wall_hidden
+from sph.engine.opening import passable, sees
 from sph.engine.particles import FLUID
 
 
@@ -55,11 +55,7 @@ def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, ou
                 r2 = dx * dx + dz * dz
                 if r2 >= r2max:
                     continue
-                if kind[j] == FLUID:
-                    if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op,
-                                                      kin):
-                        continue
-                elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                     continue
                 w = w_r2(r2, kp)
                 mw = m[j] * w

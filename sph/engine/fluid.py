@@ -69,7 +69,7 @@ from sph.engine.kernels import (
     w_r2,
 )
 from sph.engine.neighbours import BLOCK
-from sph.engine.opening import near_opening, passable, wall_hidden
+from sph.engine.opening import near_opening, sees
 from sph.engine.particles import FLUID
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 
@@ -106,10 +106,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
             r2 = dx * dx + dz * dz
             if r2 >= r2max or j == i:
                 continue
-            if kind[j] == FLUID:
-                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
-                    continue
-            elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
             fw = f_r2(r2, kp)
             rhoj = rho[j]

@@ -247,6 +247,18 @@ def wall_hidden(xf, zf, xw, zw, bw, op, kin):
     return crosses_opening(xf, zf, xw, zw, op, kin)
 
 
+@njit(inline="always", **JIT)
+def sees(xi, zi, ci, xj, zj, kj, bj, cj, op, kin):
+    """The pair rule of the engine's loops: a fluid particle at ``(xi, zi)`` of compartment
+    ``ci`` interacts with particle ``j`` (kind ``kj``, wall group ``bj``, compartment ``cj``)
+    when ``j`` is fluid of its compartment or seen through the open opening
+    (:func:`passable`), or a wall particle of its compartment not hidden by the opening
+    (:func:`wall_hidden`)."""
+    if kj == FLUID:
+        return cj == ci or passable(xi, zi, xj, zj, ci, cj, op, kin)
+    return cj == ci and not wall_hidden(xi, zi, xj, zj, bj, op, kin)
+
+
 @njit(**JIT)
 def _normal(u, w, s):
     """Outward unit normal of the outline ``s`` at the nearest point to ``(u, w)``."""

@@ -45,7 +45,7 @@ from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
-from sph.engine.opening import passable, wall_hidden
+from sph.engine.opening import sees
 from sph.engine.particles import FLUID
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
@@ -109,10 +109,7 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, n
             r2 = dx * dx + dz * dz
             if r2 >= r2max or j == i:
                 continue
-            if kind[j] == FLUID:
-                if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
-                    continue
-            elif comp[j] != ci or wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
             vj = m[j] / rho[j]
             fw = f_r2(r2, kp)
