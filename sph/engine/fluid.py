@@ -202,7 +202,8 @@ def _sums_gaussian(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef
 
 @njit(inline="always", **JIT_PAIR)
 def _sums_wendland(i, buf, nn, x, z, vx, vz, rho, p, m, vol, kind, kp, visc_coef, hx, hz):
-    """:func:`_sums_gaussian` for the Wendland C2 kernel."""
+    """:func:`_sums_gaussian` for the Wendland C2 kernel. (One loop with the kernel chosen
+    inside it, for every pair, took about 1.5 times as long on the damaged ship.)"""
     h2 = kp[KP_H] * kp[KP_H]
     eps2 = 1.0e-4 * h2
     inv_h2 = kp[KP_INV_H2]
