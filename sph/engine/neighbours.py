@@ -65,8 +65,7 @@ def _counting_sort(x, z, xmin, xmax, zmin, zmax, inv_cell, ncx, ncz, tmp, counts
     counts[:] = 0
     n_out = 0
     for i in range(n):
-        # the test is written so that NaN fails it (comparisons with NaN are false)
-        if x[i] >= xmin and x[i] <= xmax and z[i] >= zmin and z[i] <= zmax:
+        if _inside(x[i], z[i], xmin, xmax, zmin, zmax):
             c = int((z[i] - zmin) * inv_cell + 1.0) * ncx + int((x[i] - xmin) * inv_cell + 1.0)
         else:
             n_out += 1
@@ -141,21 +140,31 @@ class NeighbourList:
                          radius * radius, self.start, self.index)
 
 
+@njit(inline="always", **JIT)
+def _listed(i, j, x, z, kind, r2):
+    """True when particle ``j`` belongs in particle ``i``'s list: within ``sqrt(r2)``, and
+    fluid unless ``i`` is fluid (a wall particle lists the fluid only). Branch-free."""
+    dx = x[i] - x[j]
+    dz = z[i] - z[j]
+    return (dx * dx + dz * dz < r2) & ((kind[i] == FLUID) | (kind[j] == FLUID))
+
+
+@njit(inline="always", **JIT)
+def _inside(x, z, xmin, xmax, zmin, zmax):
+    """True when ``(x, z)`` lies in the domain; false for NaN (every comparison with NaN is
+    false)."""
+    return x >= xmin and x <= xmax and z >= zmin and z <= zmax
+
+
 @njit(**JIT_PARALLEL)
 def _count_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start):
     n = x.shape[0]
     for i in prange(n):
         cnt = 0
-        fluid_only = kind[i] != FLUID
-        xi = x[i]
-        zi = z[i]
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                dx = xi - x[j]
-                dz = zi - z[j]
-                ok = (dx * dx + dz * dz < r2) & ((not fluid_only) | (kind[j] == FLUID))
-                cnt += 1 if ok else 0
+                cnt += 1 if _listed(i, j, x, z, kind, r2) else 0
         start[i + 1] = cnt
     start[0] = 0
     for i in range(n):
@@ -167,20 +176,14 @@ def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
     for i in prange(x.shape[0]):
         if start[i + 1] == start[i]:
             continue
-        fluid_only = kind[i] != FLUID
-        xi = x[i]
-        zi = z[i]
         k = start[i]
         end = start[i + 1]
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                dx = xi - x[j]
-                dz = zi - z[j]
                 if k < end:  # the last store of a full list would fall on the next one
                     index[k] = j
-                ok = (dx * dx + dz * dz < r2) & ((not fluid_only) | (kind[j] == FLUID))
-                k += np.uint64(1) if ok else np.uint64(0)
+                k += np.uint64(1) if _listed(i, j, x, z, kind, r2) else np.uint64(0)
 
 
 @njit(**JIT_PARALLEL)
@@ -192,7 +195,6 @@ def moved_or_outside(x, z, xs, zs, half_skin2, xmin, xmax, zmin, zmax):
     for i in prange(n):
         dx = x[i] - xs[i]
         dz = z[i] - zs[i]
-        inside = x[i] >= xmin and x[i] <= xmax and z[i] >= zmin and z[i] <= zmax
-        if not (dx * dx + dz * dz <= half_skin2 and inside):
+        if not (dx * dx + dz * dz <= half_skin2 and _inside(x[i], z[i], xmin, xmax, zmin, zmax)):
             bad += 1
     return bad > 0
