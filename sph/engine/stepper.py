@@ -196,10 +196,9 @@ class Stepper:
         g = self.grid
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
-        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
-                      g.cell_start, g.ncx, self.kp, self.gx, self.gz, self.kin, fl.rho0,
-                      self.b, fl.gamma, self.cfg.numerics.dx**2, self.op, self.nlist.start,
-                      self.nlist.index)
+        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.gx,
+                      self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
+                      self.op, self.nlist.start, self.nlist.index)
         if self.delta_coef and not self.ddt_rho:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz,
@@ -210,10 +209,9 @@ class Stepper:
                  self.op, self.kin, self.shift, p.sx, p.sz, self._vol, self.nlist.start,
                  self.nlist.index)
         if self.bodies:
-            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
-                        g.cell_start, g.ncx, self.kp, self.kin, len(self.kin), self._fx,
-                        self._fz, self._mom, self._pf, self.force_scale, self.op,
-                        self.nlist.start, self.nlist.index)
+            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.kin,
+                        len(self.kin), self._fx, self._fz, self._mom, self._pf,
+                        self.force_scale, self.op, self.nlist.start, self.nlist.index)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
 

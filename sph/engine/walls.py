@@ -30,7 +30,7 @@ from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
 from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
-from sph.engine.particles import FLUID, WALL
+from sph.engine.particles import WALL
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
 
@@ -68,9 +68,23 @@ def _sees_opening(i, b, x, z, op, support):
     return b == int(op[OP_GROUP]) and near_opening(x, z, op, support)
 
 
+@njit(inline="always", **JIT)
+def _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin):
+    """Whether fluid particle ``j`` of a wall particle's list counts for the wall particle
+    at ``(xi, zi)`` (compartment ``ci``, group ``b``): within the support, of the same
+    compartment, and, when ``hide`` (:func:`_sees_opening`), not hidden by the opening.
+    Returns it with the pair's ``dx, dz, r2``."""
+    dx = xi - x[j]
+    dz = zi - z[j]
+    r2 = dx * dx + dz * dz
+    ok = r2 < r2max and comp[j] == ci and not (
+        hide and wall_hidden(x[j], z[j], xi, zi, b, op, kin))
+    return ok, dx, dz, r2
+
+
 @njit(**JIT_PARALLEL)
-def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, gx, gz,
-                  kin, rho0, b_coef, gamma, vol0, op, start, index):
+def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_coef, gamma,
+                  vol0, op, start, index):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
@@ -78,8 +92,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
     count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
     tension would attract the fluid through itself. The fluid neighbours come from the
     wall particle's Verlet list ``index[start[i]:start[i + 1]]``
-    (:class:`sph.engine.neighbours.NeighbourList`), or, for the damaged hull's wall particles
-    within reach of an open opening, from the cells with the line-of-sight test."""
+    (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
+    the damaged hull's wall particles within reach of an open opening."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
@@ -100,31 +114,15 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
         ci = comp[i]
         sw = 0.0
         sp = 0.0
-        if _sees_opening(i, b, xi, zi, op, support):
-            c = cell_of[i]
-            for row in (c - ncx, c, c + ncx):
-                for j in range(cell_start[row - 1], cell_start[row + 2]):
-                    if kind[j] != FLUID or comp[j] != ci:
-                        continue
-                    dx = xi - x[j]
-                    dz = zi - z[j]
-                    r2 = dx * dx + dz * dz
-                    if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
-                        continue
-                    w = w_r2(r2, kp) * m[j] / rho[j]
-                    sw += w
-                    sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
-        else:
-            for k in range(start[i], start[i + 1]):
-                j = index[k]
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or comp[j] != ci:
-                    continue
-                w = w_r2(r2, kp) * m[j] / rho[j]
-                sw += w
-                sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
+        hide = _sees_opening(i, b, xi, zi, op, support)
+        for k in range(start[i], start[i + 1]):
+            j = index[k]
+            ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
+            if not ok:
+                continue
+            w = w_r2(r2, kp) * m[j] / rho[j]
+            sw += w
+            sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
         # a wall in tension would pull fluid through itself (a vortex core reaching a wall
         # takes negative pressure with it); walls push, they do not pull
         p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
@@ -133,8 +131,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, k
 
 
 @njit(**JIT_PARALLEL)
-def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp, kin,
-                n_body, fx, fz, mom, pf, scale, op, start, index):
+def wall_forces(x, z, rho, p, m, kind, body, comp, kp, kin, n_body, fx, fz, mom, pf, scale,
+                op, start, index):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -158,32 +156,16 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
         vi = m[i] / rho[i]
         sx = 0.0
         sz = 0.0
-        if _sees_opening(i, b, xi, zi, op, support):
-            c = cell_of[i]
-            for row in (c - ncx, c, c + ncx):
-                for j in range(cell_start[row - 1], cell_start[row + 2]):
-                    if kind[j] != FLUID or comp[j] != ci:
-                        continue
-                    dx = xi - x[j]
-                    dz = zi - z[j]
-                    r2 = dx * dx + dz * dz
-                    if r2 >= r2max or wall_hidden(x[j], z[j], xi, zi, b, op, kin):
-                        continue
-                    # as in the momentum equation, fluid tension does not pull on a wall
-                    fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
-                    sx += fw * dx
-                    sz += fw * dz
-        else:
-            for k in range(start[i], start[i + 1]):
-                j = index[k]
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                if r2 >= r2max or comp[j] != ci:
-                    continue
-                fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
-                sx += fw * dx
-                sz += fw * dz
+        hide = _sees_opening(i, b, xi, zi, op, support)
+        for k in range(start[i], start[i + 1]):
+            j = index[k]
+            ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
+            if not ok:
+                continue
+            # as in the momentum equation, fluid tension does not pull on a wall
+            fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+            sx += fw * dx
+            sz += fw * dz
         vi *= scale[ci]
         pf[i, 0] = -vi * sx
         pf[i, 1] = -vi * sz

@@ -80,12 +80,12 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
 def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     """Eq. 11 with the wall's acceleration, fluid of the wall's compartment only, fluid
     behind the open opening hidden: summed here over every particle of the ship."""
-    p, g = ship.parts, ship.grid
+    p = ship.parts
     fl = ship.cfg.fluid
     rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
-    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
-                  g.ncx, ship.kp, ship.gx, ship.gz, ship.kin, fl.rho0, ship.b, fl.gamma,
-                  ship.cfg.numerics.dx**2, ship.op, ship.nlist.start, ship.nlist.index)
+    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, ship.kp, ship.gx, ship.gz,
+                  ship.kin, fl.rho0, ship.b, fl.gamma, ship.cfg.numerics.dx**2, ship.op,
+                  ship.nlist.start, ship.nlist.index)
     fluid = np.nonzero(p.kind == FLUID)[0]
     r2max = ship.kp[3]
     hidden_seen = 0
@@ -116,14 +116,13 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
 def test_wall_forces_match_a_sum_over_all_particles(ship):
     """Eq. 10 per wall particle of the hull: pressure of both ends (fluid tension counts as
     zero), fluid behind the open opening hidden, summed over every particle."""
-    p, g = ship.parts, ship.grid
+    p = ship.parts
     nb = len(ship.kin)
     fx, fz, mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
     pf = np.zeros((p.n, 3))
     scale = np.ones(int(p.comp.max()) + 1)
-    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
-                g.ncx, ship.kp, ship.kin, nb, fx, fz, mom, pf, scale, ship.op, ship.nlist.start,
-                ship.nlist.index)
+    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, ship.kp, ship.kin, nb, fx,
+                fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.index)
     fluid = np.nonzero(p.kind == FLUID)[0]
     hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]
     assert len(hull) > 0
