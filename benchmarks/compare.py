@@ -10,6 +10,11 @@ benchmarks alternate their own run with the reference's (the yardstick, or the s
 benchmark at another commit of this repository, checked out in a git worktree under
 ``.bench/``), one child process each, and report the ratio of the best rates (each side's
 fast level), with the medians and the per-round ratios beside it.
+
+Where both sides can run step by step (:mod:`step_server`), :func:`lockstep` goes further:
+two child processes, started once, take turns a block of steps at a time (a fraction of a
+second each), so that a switch of the machine's level falls on both sides alike; the ratio
+is then that of the summed times, with the median of the per-block ratios beside it.
 """
 
 from __future__ import annotations
@@ -44,6 +49,45 @@ def run_child(script: Path, args: list[str], root: Path = ROOT) -> dict:
     if out.returncode or not lines:
         raise RuntimeError(f"{script} {' '.join(args)} failed:\n{out.stderr[-2000:]}")
     return json.loads(lines[-1])
+
+
+def _serve(script: Path, args: list[str], root: Path) -> subprocess.Popen:
+    env = dict(os.environ, PYTHONPATH=str(root))
+    env.setdefault("SPH_VALIDATION_DATA", str(ROOT / "data" / "validation"))
+    child = subprocess.Popen([sys.executable, str(script), *args], cwd=root, env=env,
+                             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    line = child.stdout.readline()
+    if not line.startswith("ready"):
+        child.kill()
+        raise RuntimeError(f"{script} under {root} did not start: {line!r}")
+    return child
+
+
+def lockstep(script: Path, args: list[str], root: Path, reference_root: Path,
+             blocks: int) -> dict:
+    """Run ``script args`` (a step server: prints ``ready``, then the seconds of one block
+    per input line) twice, with ``root`` and with ``reference_root`` first on the path, and
+    let them take turns for ``blocks`` blocks each, in the order own, reference, reference,
+    own, ... (so that a steady drift favours neither). Returns the ratio of the reference's
+    summed time to this tree's (a speed-up), the median per-block ratio and both lists of
+    block times."""
+    own, ref = _serve(script, args, root), _serve(script, args, reference_root)
+    times: dict[int, list[float]] = {id(own): [], id(ref): []}
+    try:
+        for k in range(blocks):
+            for child in ((own, ref) if k % 2 == 0 else (ref, own)):
+                child.stdin.write("\n")
+                child.stdin.flush()
+                times[id(child)].append(float(child.stdout.readline()))
+    finally:
+        for child in (own, ref):
+            child.stdin.close()
+            child.wait()
+    mine, theirs = times[id(own)], times[id(ref)]
+    return {"ratio": round(sum(theirs) / sum(mine), 3),
+            "median_ratio": round(statistics.median(b / a for a, b in
+                                                    zip(mine, theirs, strict=True)), 3),
+            "seconds": mine, "reference_seconds": theirs}
 
 
 def interleave(rounds: int, own, reference) -> tuple[list[float], list[float]]:

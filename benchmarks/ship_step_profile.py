@@ -8,13 +8,16 @@ by default: the line-of-sight tests at the opening run from the start), warms up
 ``advance`` wrapped in a timer. Prints the stages by time and, as its last line, a JSON
 object (median rate over ``--repeat`` runs, and the stage times of the last one).
 
-With ``--baseline COMMIT`` (default: 846fe50, release 0.1.0; ``none`` to skip) the same
-measurement of that commit, checked out in a git worktree, alternates with this tree's for
-``--rounds`` rounds, one child process each (:mod:`compare`); the last line then also holds
-both median rates and the median of the per-round ratios.
+With ``--baseline COMMIT`` (default: 846fe50, release 0.1.0; ``none`` to skip) this tree
+and that commit, checked out in a git worktree, each run the same ship in a child process
+(:mod:`step_server`) and take turns, ``--block`` steps at a time for ``--blocks`` blocks
+each (:func:`compare.lockstep`), so that the machine's changes of speed fall on both alike;
+the last line holds the ratio of their summed times (the speed-up over the baseline), the
+median of the per-block ratios, both median block rates, and the stage table of one more
+run of this tree.
 
     python benchmarks/ship_step_profile.py [--threads 1] [--steps 300] [--repeat 3]
-        [--baseline 846fe50 | none] [--rounds 5]
+        [--baseline 846fe50 | none] [--blocks 60] [--block 20]
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ import statistics
 import time
 from pathlib import Path
 
-from compare import interleave, run_child, summary, worktree
+from compare import ROOT, lockstep, run_child, worktree
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -95,7 +98,8 @@ def main() -> None:
     ap.add_argument("--warmup", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--baseline", default="846fe50")
-    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--blocks", type=int, default=60)
+    ap.add_argument("--block", type=int, default=20)
     args = ap.parse_args()
     if args.baseline != "none":
         compare_with(args)
@@ -117,36 +121,33 @@ def main() -> None:
 
 
 def compare_with(args) -> None:
-    common = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
-              str(args.damage_period), "--shifting", str(args.shifting), "--steps",
-              str(args.steps), "--warmup", str(args.warmup), "--repeat", "1"]
+    """This tree against ``args.baseline`` in lockstep (:func:`compare.lockstep`), then one
+    run of this tree for the stage table."""
     base = worktree(args.baseline)
-    last = {}
-
-    def own():
-        last.update(run_child(Path(__file__), common + ["--baseline", "none"]))
-        return last["particle_steps_per_s"]
-
-    def reference():
-        return run_child(base / "benchmarks" / "ship_step_profile.py", common,
-                         root=base)["particle_steps_per_s"]
-
-    mine, ref = interleave(args.rounds, own, reference)
-    out = summary(mine, ref)
+    serve = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
+             str(args.damage_period), "--shifting", str(args.shifting), "--warmup",
+             str(args.warmup), "--block", str(args.block)]
+    out = lockstep(Path(__file__).with_name("step_server.py"), serve, ROOT, base, args.blocks)
+    last = run_child(Path(__file__), ["--threads", str(args.threads), "--dx", str(args.dx),
+                                      "--damage-period", str(args.damage_period),
+                                      "--shifting", str(args.shifting), "--steps",
+                                      str(args.steps), "--warmup", str(args.warmup),
+                                      "--repeat", "1", "--baseline", "none"])
+    n = last["particles"]
+    rate = n * args.block / statistics.median(out["seconds"])
+    ref_rate = n * args.block / statistics.median(out["reference_seconds"])
     for name, share in last["stage_shares"].items():
         print(f"{name:32s} {100 * share:5.1f} %")
-    print(f"damaged_ship dx = {args.dx:g} m  N = {last['particles']}  {args.threads} "
-          f"thread(s): this tree {out['rate'] / 1e6:.3f}, {args.baseline} "
-          f"{out['reference_rate'] / 1e6:.3f} M particle-steps/s (best of {args.rounds} "
-          f"alternating runs); ratio {out['ratio']:.2f} (median {out['median_ratio']:.2f}; "
-          f"per round: "
-          f"{', '.join(f'{r:.2f}' for r in out['ratios'])})")
-    print(json.dumps({"particles": last["particles"], "threads": args.threads, "dx": args.dx,
-                      "particle_steps_per_s": round(out["rate"]),
-                      "baseline": args.baseline,
-                      "baseline_particle_steps_per_s": round(out["reference_rate"]),
+    print(f"damaged_ship dx = {args.dx:g} m  N = {n}  {args.threads} thread(s), "
+          f"{args.blocks} blocks of {args.block} steps each, taking turns: this tree "
+          f"{rate / 1e6:.3f}, {args.baseline} {ref_rate / 1e6:.3f} M particle-steps/s "
+          f"(median block); ratio {out['ratio']:.2f} (summed times; median of the "
+          f"per-block ratios {out['median_ratio']:.2f})")
+    print(json.dumps({"particles": n, "threads": args.threads, "dx": args.dx,
+                      "particle_steps_per_s": round(rate), "baseline": args.baseline,
+                      "baseline_particle_steps_per_s": round(ref_rate),
                       "ratio": out["ratio"], "median_ratio": out["median_ratio"],
-                      "ratios": out["ratios"],
+                      "blocks": args.blocks, "block": args.block,
                       "stage_shares": last["stage_shares"]}))
 
 

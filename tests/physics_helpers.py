@@ -10,7 +10,7 @@ import xarray as xr
 
 from sph.cases import builtin
 from sph.driver import Simulation
-from sph.engine.fluid import interact
+from sph.engine.fluid import interact, pair_work
 from sph.engine.neighbours import NeighbourList
 from sph.engine.opening import no_opening
 from sph.engine.walls import fixed_kinematics
@@ -77,13 +77,14 @@ def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
              np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp, visc_coef,
              0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
              fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz,
-             np.empty(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid))
+             pair_work(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid))
     return ax, az, drho, sx, sz
 
 
 def verlet_lists(x, z, kind, grid):
-    """``start, index`` of the Verlet lists of particles sorted by ``grid``, of the grid's
-    cell size (the kernel support: no skin)."""
+    """``start, inner, inner_end`` of the inner lists (what the fluid pair loop reads) of
+    particles sorted by ``grid``, of the grid's cell size (the kernel support: no skin)."""
     nlist = NeighbourList()
     nlist.build(x, z, kind, grid, grid.cell)
-    return nlist.start, nlist.index
+    nlist.refresh(x, z, kind, grid.cell)
+    return nlist.start, nlist.inner, nlist.inner_end

@@ -18,12 +18,12 @@ from numba import prange
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.particles import FLUID
 
-#: particles per block of a parallel pair loop that keeps a work buffer per block (a fixed
-#: split, so that results do not depend on the number of threads)
-BLOCK = 256
 #: the skin of the Verlet lists (:class:`NeighbourList`) and of the cells, as a fraction of
 #: the kernel support: lists and cells are rebuilt when a particle has moved half of it
 SKIN = 0.15
+#: the skin of the inner lists (:meth:`NeighbourList.refresh`), as a fraction of the
+#: kernel support
+INNER_SKIN = 0.04
 
 
 class CellGrid:
@@ -115,7 +115,14 @@ class NeighbourList:
     loop visits the list instead of the three rows of cells: about a third of the
     candidates for the Gaussian kernel, and no sort or permutation of the particles. The
     lists are stored compressed: particle ``i``'s neighbours are
-    ``index[start[i]:start[i + 1]]``. A wall particle deep in its wall has an empty list."""
+    ``index[start[i]:start[i + 1]]``. A wall particle deep in its wall has an empty list.
+
+    Each particle also has an inner list (:meth:`refresh`): the entries of its list within
+    the support plus a thinner skin (:data:`INNER_SKIN`), in the same order, at
+    ``inner[start[i]:inner_end[i]]``. It is refreshed from the Verlet list whenever a
+    particle has moved half that skin, every few steps, and the pair loops go over it
+    (the fluid loop with the pairs beyond the support masked): about 1.05 entries per
+    neighbour instead of 1.4, and no selection of the neighbours at every step."""
 
     #: unsigned, so that a numba loop indexing with them compiles no negative-index
     #: wrap-around (it halves the cost of a loop over a list)
@@ -125,6 +132,8 @@ class NeighbourList:
     def __init__(self):
         self.start = np.zeros(1, dtype=self.DTYPE_START)
         self.index = np.zeros(0, dtype=self.DTYPE_INDEX)
+        self.inner = np.zeros(0, dtype=self.DTYPE_INDEX)
+        self.inner_end = np.zeros(0, dtype=self.DTYPE_START)
 
     def build(self, x, z, kind, grid: CellGrid, radius: float) -> None:
         """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it)."""
@@ -138,6 +147,22 @@ class NeighbourList:
             self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
         _fill_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
                          radius * radius, self.start, self.index)
+
+    def refresh(self, x, z, kind, radius: float) -> None:
+        """The inner lists of radius ``radius`` (at most the radius of :meth:`build`) from
+        the lists, at the positions ``x, z``.
+
+        The loops that sum over them may add in an order that depends on where in the
+        list a neighbour sits (the compiler may split a sum into partial sums), so a
+        restart rebuilds them from the positions they were refreshed at (the particle
+        fields ``x_inner, z_inner``) to continue bit for bit."""
+        n = x.shape[0]
+        if self.inner.shape[0] < self.index.shape[0]:
+            self.inner = np.empty_like(self.index)
+        if self.inner_end.shape[0] != n:
+            self.inner_end = np.zeros(n, dtype=self.DTYPE_START)
+        _fill_inner(x, z, kind, radius * radius, self.start, self.index, self.inner,
+                    self.inner_end)
 
 
 @njit(inline="always", **JIT)
@@ -184,6 +209,19 @@ def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
                 if k < end:  # the last store of a full list would fall on the next one
                     index[k] = j
                 k += np.uint64(1) if _listed(i, j, x, z, kind, r2) else np.uint64(0)
+
+
+@njit(**JIT_PARALLEL)
+def _fill_inner(x, z, kind, r2, start, index, inner, inner_end):
+    for i in prange(x.shape[0]):
+        k = start[i]
+        for e in range(start[i], start[i + 1]):
+            j = index[e]
+            dx = x[i] - x[j]
+            dz = z[i] - z[j]
+            inner[k] = j  # branch-free: stored always, kept when within reach
+            k += np.uint64(1) if dx * dx + dz * dz < r2 else np.uint64(0)
+        inner_end[i] = k
 
 
 @njit(**JIT_PARALLEL)

@@ -23,6 +23,7 @@ FLOAT_FIELDS = (
     "sx", "sz",  # particle shift from the last evaluation (sph.engine.shifting)
     "bx", "bz",  # wall particles: position in the frame of their body (rest position)
     "x_sort", "z_sort",  # position at the last sort by cell (sph.engine.neighbours)
+    "x_inner", "z_inner",  # position at the last refresh of the inner lists (same)
 )
 #: integer fields
 INT_FIELDS = (

@@ -27,10 +27,16 @@ import numpy as np
 from sph.engine.config import CaseConfig
 from sph.engine.eos import fluid_pressures
 from sph.engine.filters import mls_density, renormalised_density_gradient
-from sph.engine.fluid import interact
+from sph.engine.fluid import interact, pair_work
 from sph.engine.integrator import max_speed_accel, time_step, verlet_update
 from sph.engine.jit import set_threads
-from sph.engine.neighbours import SKIN, CellGrid, NeighbourList, moved_or_outside
+from sph.engine.neighbours import (
+    INNER_SKIN,
+    SKIN,
+    CellGrid,
+    NeighbourList,
+    moved_or_outside,
+)
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
 from sph.engine.probes import point_pressures, surface_heights
@@ -111,6 +117,9 @@ class Stepper:
         #: cells and Verlet lists reach the kernel support plus a skin (SKIN of it), so that
         #: they stay valid until a particle has moved half the skin
         self.list_radius = self.scales.support * (1.0 + SKIN)
+        #: the inner lists of the fluid pair loop, refreshed from the Verlet lists when a
+        #: particle has moved half their thinner skin (INNER_SKIN)
+        self.inner_radius = self.scales.support * (1.0 + INNER_SKIN)
         self.grid = CellGrid(*self.setup.bounds, self.list_radius)
         self.nlist = NeighbourList()
         self._listed = None  # the particle set the lists were built for
@@ -176,7 +185,7 @@ class Stepper:
         self._grx = np.zeros(n)
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
-        self._vol = np.zeros(n)
+        self._pk = pair_work(n)
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
@@ -198,7 +207,7 @@ class Stepper:
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
-                      self.op, self.nlist.start, self.nlist.index)
+                      self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end)
         if self.delta_coef and not self.ddt_rho:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
                                           g.cell_start, g.ncx, self.kp, self._grx, self._grz,
@@ -206,22 +215,28 @@ class Stepper:
         interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
                  g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
-                 self.op, self.kin, self.shift, p.sx, p.sz, self._vol, self.nlist.start,
-                 self.nlist.index)
+                 self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
+                 self.nlist.inner, self.nlist.inner_end)
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.kin,
                         len(self.kin), self._fx, self._fz, self._mom, self._pf,
-                        self.force_scale, self.op, self.nlist.start, self.nlist.index)
+                        self.force_scale, self.op, self.nlist.start, self.nlist.inner,
+                        self.nlist.inner_end)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
 
     def _neighbours(self) -> None:
         """Sort by cell and rebuild the Verlet lists when a particle has moved half the skin
-        since the last sort, left the domain, or the particle set changed."""
-        p, g = self.parts, self.grid
+        since the last sort, left the domain, or the particle set changed; refresh the inner
+        lists when a particle has moved half their skin."""
+        p, g, nl = self.parts, self.grid, self.nlist
         half_skin = 0.5 * (self.list_radius - self.scales.support)
         if self._listed is p and not moved_or_outside(p.x, p.z, p.x_sort, p.z_sort,
                                                       half_skin * half_skin, *g.bounds):
+            half_inner = 0.5 * (self.inner_radius - self.scales.support)
+            if moved_or_outside(p.x, p.z, p.x_inner, p.z_inner, half_inner * half_inner,
+                                *g.bounds):
+                self._refresh_inner()
             return
         if g.sort(p.x, p.z):
             self._exclude()
@@ -230,8 +245,15 @@ class Stepper:
         p.permute(g.order)
         p.x_sort[:] = p.x
         p.z_sort[:] = p.z
-        self.nlist.build(p.x, p.z, p.kind, g, self.list_radius)
+        nl.build(p.x, p.z, p.kind, g, self.list_radius)
+        self._refresh_inner()
         self._listed = p
+
+    def _refresh_inner(self) -> None:
+        p = self.parts
+        p.x_inner[:] = p.x
+        p.z_inner[:] = p.z
+        self.nlist.refresh(p.x, p.z, p.kind, self.inner_radius)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -422,4 +444,5 @@ class Stepper:
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius)
+        self.nlist.refresh(parts.x_inner, parts.z_inner, parts.kind, self.inner_radius)
         self._listed = parts

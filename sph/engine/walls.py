@@ -84,14 +84,14 @@ def _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_coef, gamma,
-                  vol0, op, start, index):
+                  vol0, op, start, inner, inner_end):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
     its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
     count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
     tension would attract the fluid through itself. The fluid neighbours come from the
-    wall particle's Verlet list ``index[start[i]:start[i + 1]]``
+    wall particle's inner list ``inner[start[i]:inner_end[i]]``
     (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
     the damaged hull's wall particles within reach of an open opening."""
     n = x.shape[0]
@@ -115,8 +115,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_co
         sw = 0.0
         sp = 0.0
         hide = _sees_opening(i, b, xi, zi, op, support)
-        for k in range(start[i], start[i + 1]):
-            j = index[k]
+        for k in range(start[i], inner_end[i]):
+            j = inner[k]
             ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
             if not ok:
                 continue
@@ -132,7 +132,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_co
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, kp, kin, n_body, fx, fz, mom, pf, scale,
-                op, start, index):
+                op, start, inner, inner_end):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -157,8 +157,8 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, kp, kin, n_body, fx, fz, mom,
         sx = 0.0
         sz = 0.0
         hide = _sees_opening(i, b, xi, zi, op, support)
-        for k in range(start[i], start[i + 1]):
-            j = index[k]
+        for k in range(start[i], inner_end[i]):
+            j = inner[k]
             ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
             if not ok:
                 continue

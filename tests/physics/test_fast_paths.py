@@ -17,7 +17,7 @@ import pytest
 from sph.cases import builtin
 from sph.driver import Simulation
 from sph.engine.eos import tait_density
-from sph.engine.fluid import interact, interact_reference
+from sph.engine.fluid import interact, interact_reference, pair_work
 from sph.engine.kernels import f_r2, w_r2
 from sph.engine.opening import near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
@@ -67,7 +67,8 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
     near = sum(near_opening(p.x[i], p.z[i], ship.op, 0.0) for i in np.nonzero(fluid)[0])
     assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
     got = _derivatives(interact, ship, delta, ddt, shifting,
-                      (np.empty(p.n), ship.nlist.start, ship.nlist.index))
+                      (pair_work(p.n), ship.nlist.start, ship.nlist.inner,
+                       ship.nlist.inner_end))
     want = _derivatives(interact_reference, ship, delta, ddt, shifting)
     for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want, strict=True):
         scale = np.abs(b[fluid]).max()
@@ -85,7 +86,7 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
     wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, ship.kp, ship.gx, ship.gz,
                   ship.kin, fl.rho0, ship.b, fl.gamma, ship.cfg.numerics.dx**2, ship.op,
-                  ship.nlist.start, ship.nlist.index)
+                  ship.nlist.start, ship.nlist.inner, ship.nlist.inner_end)
     fluid = np.nonzero(p.kind == FLUID)[0]
     r2max = ship.kp[3]
     hidden_seen = 0
@@ -122,7 +123,8 @@ def test_wall_forces_match_a_sum_over_all_particles(ship):
     pf = np.zeros((p.n, 3))
     scale = np.ones(int(p.comp.max()) + 1)
     wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, ship.kp, ship.kin, nb, fx,
-                fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.index)
+                fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.inner,
+                ship.nlist.inner_end)
     fluid = np.nonzero(p.kind == FLUID)[0]
     hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]
     assert len(hull) > 0
@@ -141,3 +143,42 @@ def test_wall_forces_match_a_sum_over_all_particles(ship):
     scale_f = np.abs(want).max()
     assert scale_f > 0.0
     np.testing.assert_allclose(pf[hull, :2], want, rtol=0, atol=RTOL * scale_f)
+
+
+def _pairs_within(x, z, start, index, end, r2max):
+    """Per particle, the number of entries ``index[start[i]:end[i]]`` within the support."""
+    n = len(x)
+    first = start[:-1].astype(np.int64)
+    lens = end.astype(np.int64) - first
+    owner = np.repeat(np.arange(n), lens)
+    k = np.arange(lens.sum()) + np.repeat(first - (np.cumsum(lens) - lens), lens)
+    j = index[k]
+    r2 = (x[owner] - x[j]) ** 2 + (z[owner] - z[j]) ** 2
+    return np.bincount(owner[r2 < r2max], minlength=n)
+
+
+STEPS = 300
+
+
+@pytest.mark.parametrize("kernel", ["gaussian", "wendland"])
+def test_inner_lists_hold_every_pair_within_the_support_at_every_step(kernel):
+    """The pair loops go over the inner lists, refreshed only when a particle has
+    moved half their thin skin: at every step of a flooding ship, each particle's inner
+    list (a subsequence of its Verlet list) must hold every particle of its Verlet list
+    within the support (checked every fourth step), and the lists must have been refreshed
+    in between."""
+    sim = _flooding_ship(kernel)
+    nl = sim.nlist
+    refreshed = 0
+    for step in range(STEPS):
+        before = sim.parts.x_inner.copy()
+        sim.advance()
+        p = sim.parts
+        refreshed += not np.array_equal(before, p.x_inner)
+        if step % 4:  # a pair missed stays missed until the next refresh
+            continue
+        full = _pairs_within(p.x, p.z, nl.start, nl.index, nl.start[1:], sim.kp[3])
+        inner = _pairs_within(p.x, p.z, nl.start, nl.inner, nl.inner_end, sim.kp[3])
+        np.testing.assert_array_equal(inner, full)
+        assert np.all(nl.inner_end <= nl.start[1:])
+    assert 0 < refreshed < STEPS, refreshed

@@ -20,7 +20,7 @@ from physics_helpers import verlet_lists
 
 from sph.cases import builtin
 from sph.driver import Simulation
-from sph.engine.fluid import interact
+from sph.engine.fluid import interact, pair_work
 from sph.engine.kernels import f_r2, w_given_f, w_r2
 from sph.engine.neighbours import CellGrid
 from sph.engine.opening import passable, wall_hidden
@@ -160,7 +160,7 @@ def _interact(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
     interact(st["x"], st["z"], st["vx"], st["vz"], st["rho"], st["p"], st["m"], st["kind"],
              st["body"], st["comp"], grid.cell_of, grid.cell_start, grid.ncx, kp, visc, gx, gz,
              delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"], out["drho"], op, kin,
-             shift, out["sx"], out["sz"], np.empty(n), *verlet_lists(st["x"], st["z"],
+             shift, out["sx"], out["sz"], pair_work(n), *verlet_lists(st["x"], st["z"],
                                                                      st["kind"], grid))
     return out
 

@@ -139,6 +139,24 @@ def validation_document(wildcards):
     return study.case_document(case, over)
 
 
+#: The order in which the engine runs start, longest first, so that the last minutes of a
+#: sweep are not one long run alone on one core: the ship cases (each about as long as all
+#: validation runs together at the coarse preset), then the validation targets by their
+#: measured cost at coarse (floating box 305 s, wave tank 21-208 s with the finest spacing
+#: last in the list, decay 79-88 s, dam break 44 s, sloshing 8-18 s; docs/performance.md).
+SHIP_PRIORITY = 10
+VALIDATION_PRIORITY = {"floating_box": 5, "wave_tank": 4, "decay": 3, "dam_break": 2,
+                       "sloshing": 1}
+
+
+def validation_priority(wildcards):
+    """Priority of a validation run: its target's, the later runs of a target (finer
+    spacings) slightly ahead."""
+    runs = list(VALIDATION[wildcards.target])
+    rank = runs.index(wildcards.run) / len(runs)
+    return VALIDATION_PRIORITY.get(wildcards.target, 0) + rank
+
+
 def sweep_attrs():
     """Global attributes of the sweep dataset: the sweep's configuration."""
     import yaml

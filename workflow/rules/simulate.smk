@@ -25,6 +25,7 @@ rule case_file:
     log:
         "results/{sweep}/logs/case_file/{case}.log",
     localrule: True
+    priority: SHIP_PRIORITY
     script:
         "../scripts/case_file.py"
 
@@ -41,7 +42,7 @@ rule simulate_case:
     benchmark:
         "results/{sweep}/benchmarks/simulate/{case}.tsv"
     threads: 1
-    priority: 10
+    priority: SHIP_PRIORITY
     shell:
         SPH_RUN
 
@@ -56,6 +57,7 @@ rule validation_case_file:
     log:
         "results/validation/{preset}/logs/case_file/{target}/{run}.log",
     localrule: True
+    priority: validation_priority
     script:
         "../scripts/case_file.py"
 
@@ -72,5 +74,6 @@ rule simulate_validation:
     benchmark:
         "results/validation/{preset}/benchmarks/simulate/{target}/{run}.tsv"
     threads: 1
+    priority: validation_priority
     shell:
         SPH_RUN
