@@ -166,7 +166,8 @@ def _list_sums(wendland: bool, diffusion: bool):
     plus a thin skin, itself included; the self pair adds its kernel value to the kernel
     sum and nothing else), with no branch: a pair beyond the support or in another
     compartment is masked (its kernel gradient and kernel value are zero, so it adds
-    exact zeros and the sums equal those over the neighbours alone). ``pk``: the pair
+    zeros: the sums are those over the neighbours alone, up to the grouping of the
+    additions, which the compiler may split by position in the list). ``pk``: the pair
     data (:func:`pack_pair_data`); ``hx dx + hz dz`` is the hydrostatic density difference
     of the ``ddt`` diffusive term (0: none).
 
