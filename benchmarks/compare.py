@@ -39,11 +39,16 @@ def worktree(commit: str) -> Path:
     return path
 
 
-def run_child(script: Path, args: list[str], root: Path = ROOT) -> dict:
-    """Run ``python script args`` with ``root`` first on the path; its last line, as JSON."""
+def _child_env(root: Path) -> dict:
+    """The environment of a child process with ``root`` first on the path."""
     env = dict(os.environ, PYTHONPATH=str(root))
     env.setdefault("SPH_VALIDATION_DATA", str(ROOT / "data" / "validation"))
-    out = subprocess.run([sys.executable, str(script), *args], cwd=root, env=env,
+    return env
+
+
+def run_child(script: Path, args: list[str], root: Path = ROOT) -> dict:
+    """Run ``python script args`` with ``root`` first on the path; its last line, as JSON."""
+    out = subprocess.run([sys.executable, str(script), *args], cwd=root, env=_child_env(root),
                          capture_output=True, text=True)
     lines = out.stdout.strip().splitlines()
     if out.returncode or not lines:
@@ -52,9 +57,8 @@ def run_child(script: Path, args: list[str], root: Path = ROOT) -> dict:
 
 
 def _serve(script: Path, args: list[str], root: Path) -> subprocess.Popen:
-    env = dict(os.environ, PYTHONPATH=str(root))
-    env.setdefault("SPH_VALIDATION_DATA", str(ROOT / "data" / "validation"))
-    child = subprocess.Popen([sys.executable, str(script), *args], cwd=root, env=env,
+    child = subprocess.Popen([sys.executable, str(script), *args], cwd=root,
+                             env=_child_env(root),
                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
     line = child.stdout.readline()
     if not line.startswith("ready"):

@@ -30,9 +30,8 @@ import time
 from pathlib import Path
 
 from compare import ROOT, lockstep, run_child, worktree
+from step_server import damaged_ship
 
-from sph.cases import builtin
-from sph.driver import Simulation
 from sph.engine import stepper as solver
 from sph.engine.neighbours import CellGrid
 from sph.engine.particles import Particles
@@ -62,11 +61,7 @@ def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: i
             setattr(solver, name, _timed(fn, name, timers))
         CellGrid.sort = _timed(sort, "cell sort", timers)
         Particles.permute = _timed(permute, "permute", timers)
-        cfg = builtin("damaged_ship", [
-            ("numerics.dx", dx), ("numerics.threads", threads),
-            ("numerics.shifting", shifting),
-            ("geometry.damage.time_periods", damage_period)])
-        sim = Simulation(cfg)
+        sim = damaged_ship(dx, damage_period, threads, shifting)
         for event in sim.setup.events:
             event.apply = _timed(event.apply, type(event).__name__, timers)
         for body in sim.bodies:
@@ -124,15 +119,13 @@ def compare_with(args) -> None:
     """This tree against ``args.baseline`` in lockstep (:func:`compare.lockstep`), then one
     run of this tree for the stage table."""
     base = worktree(args.baseline)
-    serve = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
-             str(args.damage_period), "--shifting", str(args.shifting), "--warmup",
-             str(args.warmup), "--block", str(args.block)]
-    out = lockstep(Path(__file__).with_name("step_server.py"), serve, ROOT, base, args.blocks)
-    last = run_child(Path(__file__), ["--threads", str(args.threads), "--dx", str(args.dx),
-                                      "--damage-period", str(args.damage_period),
-                                      "--shifting", str(args.shifting), "--steps",
-                                      str(args.steps), "--warmup", str(args.warmup),
-                                      "--repeat", "1", "--baseline", "none"])
+    common = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
+              str(args.damage_period), "--shifting", str(args.shifting), "--warmup",
+              str(args.warmup)]
+    out = lockstep(Path(__file__).with_name("step_server.py"),
+                   common + ["--block", str(args.block)], ROOT, base, args.blocks)
+    last = run_child(Path(__file__), common + ["--steps", str(args.steps), "--repeat", "1",
+                                               "--baseline", "none"])
     n = last["particles"]
     rate = n * args.block / statistics.median(out["seconds"])
     ref_rate = n * args.block / statistics.median(out["reference_seconds"])

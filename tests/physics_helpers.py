@@ -86,5 +86,5 @@ def verlet_lists(x, z, kind, grid):
     particles sorted by ``grid``, of the grid's cell size (the kernel support: no skin)."""
     nlist = NeighbourList()
     nlist.build(x, z, kind, grid, grid.cell)
-    nlist.refresh(x, z, kind, grid.cell)
+    nlist.refresh(x, z, grid.cell)
     return nlist.start, nlist.inner, nlist.inner_end

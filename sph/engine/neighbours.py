@@ -148,7 +148,7 @@ class NeighbourList:
         _fill_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
                          radius * radius, self.start, self.index)
 
-    def refresh(self, x, z, kind, radius: float) -> None:
+    def refresh(self, x, z, radius: float) -> None:
         """The inner lists of radius ``radius`` (at most the radius of :meth:`build`) from
         the lists, at the positions ``x, z``.
 
@@ -161,8 +161,7 @@ class NeighbourList:
             self.inner = np.empty_like(self.index)
         if self.inner_end.shape[0] != n:
             self.inner_end = np.zeros(n, dtype=self.DTYPE_START)
-        _fill_inner(x, z, kind, radius * radius, self.start, self.index, self.inner,
-                    self.inner_end)
+        _fill_inner(x, z, radius * radius, self.start, self.index, self.inner, self.inner_end)
 
 
 @njit(inline="always", **JIT)
@@ -212,7 +211,7 @@ def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
 
 
 @njit(**JIT_PARALLEL)
-def _fill_inner(x, z, kind, r2, start, index, inner, inner_end):
+def _fill_inner(x, z, r2, start, index, inner, inner_end):
     for i in prange(x.shape[0]):
         k = start[i]
         for e in range(start[i], start[i + 1]):

@@ -253,7 +253,7 @@ class Stepper:
         p = self.parts
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
-        self.nlist.refresh(p.x, p.z, p.kind, self.inner_radius)
+        self.nlist.refresh(p.x, p.z, self.inner_radius)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -444,5 +444,5 @@ class Stepper:
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius)
-        self.nlist.refresh(parts.x_inner, parts.z_inner, parts.kind, self.inner_radius)
+        self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius)
         self._listed = parts
