@@ -110,7 +110,7 @@ def absorber_speed(ab: np.ndarray) -> float:
     return float(ab[AB_SPEED])
 
 
-@njit(**JIT)
+@njit(inline="always", **JIT)
 def sigma(x, vx, ab):
     """Damping rate (1/s) at ``x`` for a particle moving with ``vx``; 0 outside the zone."""
     if ab[AB_FORM] != 0.0 and ab[AB_PITCH] > 0.0:

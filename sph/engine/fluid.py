@@ -68,21 +68,53 @@ from sph.engine.kernels import (
     w_given_f,
     w_r2,
 )
-from sph.engine.opening import near_opening, sees
+from sph.engine.opening import opening_circle, passable, sees, wall_hidden
 from sph.engine.particles import FLUID
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 
 
+@njit(inline="always", **JIT)
+def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, grx,
+                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta):
+    """What particle ``j`` within the support adds to the sums of a fluid particle
+    ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
+    as :func:`_sums_general` returns them."""
+    fw = f_r2(r2, kp)
+    rhoj = rho[j]
+    vj = m[j] / rhoj
+    dvx = vxi - vx[j]
+    dvz = vzi - vz[j]
+    vr = dvx * dx + dvz * dz
+    diff = 0.0
+    if kind[j] == FLUID:
+        coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
+        coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
+        if ddt_rho != 0.0:
+            rho_h = -ddt_rho * (gx * dx + gz * dz)
+            diff = -2.0 * vj * fw * (rhoj - rhoi - rho_h)
+        elif use_delta:
+            diff = vj * fw * (-2.0 * (rhoj - rhoi) - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
+    else:  # a wall pushes and never pulls: fluid tension does not count
+        coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
+    return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
+            vj * w_given_f(r2, fw, kp))
+
+
 @njit(**JIT)
 def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
-                  kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin):
+                  kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
+                  start, inner, inner_end):
     """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
     through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
     shep)``: the pair accelerations, the velocity divergence sum, the diffusive sum and the
-    kernel sum (itself included)."""
+    kernel sum (itself included).
+
+    The candidates are the particle's inner list ``inner[start[i]:inner_end[i]]`` when
+    ``listed`` (:class:`sph.engine.neighbours.NeighbourList`: every particle within the
+    support, in cell order), else the three rows of cells around it: the same pairs in
+    the same order, so the same sums to the last bit."""
     r2max = kp[KP_R2MAX]
     eps2 = 1.0e-4 * kp[KP_H] * kp[KP_H]
-    use_ddt = ddt_rho != 0.0
     xi = x[i]
     zi = z[i]
     vxi = vx[i]
@@ -98,8 +130,16 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
     diff = 0.0
     shep = m[i] / rhoi * w_r2(0.0, kp)
     c = cell_of[i]
-    for row in (c - ncx, c, c + ncx):
-        for j in range(cell_start[row - 1], cell_start[row + 2]):
+    for seg in range(1 if listed else 3):
+        if listed:
+            lo = np.int64(start[i])
+            hi = np.int64(inner_end[i])
+        else:
+            row = c + (seg - 1) * ncx
+            lo = cell_start[row - 1]
+            hi = cell_start[row + 2]
+        for k in range(lo, hi):
+            j = np.int64(inner[k]) if listed else k
             dx = xi - x[j]
             dz = zi - z[j]
             r2 = dx * dx + dz * dz
@@ -107,28 +147,58 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
                 continue
             if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
-            fw = f_r2(r2, kp)
-            rhoj = rho[j]
-            vj = m[j] / rhoj
-            dvx = vxi - vx[j]
-            dvz = vzi - vz[j]
-            vr = dvx * dx + dvz * dz
-            div += vj * vr * fw
-            if kind[j] == FLUID:
-                coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
-            else:  # a wall pushes and never pulls: fluid tension does not count
-                coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
-            if kind[j] == FLUID:
-                coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
-                if use_ddt:
-                    rho_h = -ddt_rho * (gx * dx + gz * dz)
-                    diff -= 2.0 * vj * fw * (rhoj - rhoi - rho_h)
-                elif use_delta:
-                    diff += vj * fw * (-2.0 * (rhoj - rhoi)
-                                       - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
-            accx += coef * fw * dx
-            accz += coef * fw * dz
-            shep += vj * w_given_f(r2, fw, kp)
+            t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
+                              kind, grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho,
+                              use_delta)
+            accx += t[0]
+            accz += t[1]
+            div += t[2]
+            diff += t[3]
+            shep += t[4]
+    return accx, accz, div, diff, shep
+
+
+@njit(**JIT)
+def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, gx, gz,
+                   ddt_rho, op, kin, start, inner, inner_end):
+    """What the damage opening changes in the sums of fluid particle ``i`` (near the open
+    opening) over those of its own compartment that the list loops take
+    (:func:`_list_sums`): plus the fluid of another compartment seen through the opening
+    (:func:`sph.engine.opening.passable`), minus the wall layers of the damaged hull that
+    the opening hides (:func:`sph.engine.opening.wall_hidden`). Added to the list sums it
+    gives :func:`_sums_general`'s pairs, summed in another order."""
+    r2max = kp[KP_R2MAX]
+    eps2 = 1.0e-4 * kp[KP_H] * kp[KP_H]
+    xi = x[i]
+    zi = z[i]
+    ci = comp[i]
+    accx = 0.0
+    accz = 0.0
+    div = 0.0
+    diff = 0.0
+    shep = 0.0
+    for k in range(start[i], inner_end[i]):
+        j = inner[k]
+        dx = xi - x[j]
+        dz = zi - z[j]
+        r2 = dx * dx + dz * dz
+        if r2 >= r2max or j == i:
+            continue
+        if kind[j] == FLUID:
+            if comp[j] == ci or not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
+                continue
+            sign = 1.0
+        else:
+            if comp[j] != ci or not wall_hidden(xi, zi, x[j], z[j], body[j], op, kin):
+                continue
+            sign = -1.0
+        t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
+                          p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False)
+        accx += sign * t[0]
+        accz += sign * t[1]
+        div += sign * t[2]
+        diff += sign * t[3]
+        shep += sign * t[4]
     return accx, accz, div, diff, shep
 
 
@@ -250,12 +320,14 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
-    A fluid particle within reach of an open damage opening, or any fluid particle under
-    the renormalised diffusive term, takes every pair rule at every candidate of the cells
-    (:func:`_sums_general`). All others, the vast majority, sum over their inner list
+    Under the renormalised diffusive term every fluid particle takes every pair rule at
+    every particle of its inner list within the support (:func:`_sums_general`). Otherwise
+    every fluid particle sums over its inner list
     ``inner[start[i]:inner_end[i]]`` (:class:`sph.engine.neighbours.NeighbourList`) with
-    the kernel's own loop (:func:`_list_sums`), in the same order.
-    :func:`interact_reference` sums every particle the general way.
+    the kernel's own loop (:func:`_list_sums`), in the same order, the pairs of its own
+    compartment; one within reach of an open damage opening adds what the opening
+    changes (:func:`_opening_terms`). :func:`interact_reference` sums every particle the
+    general way.
 
     Parameters
     ----------
@@ -288,13 +360,15 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
     hz = -ddt_rho * gz
     gauss = kp[KP_KIND] == 0.0
+    ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
     for i in prange(n):
         if kind[i] != FLUID:
             continue
-        if general or near_opening(x[i], z[i], op, 0.0):
+        if general:
             accx, accz, div, diff, shep = _sums_general(
                 i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
-                kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin)
+                kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
+                inner, inner_end)
         else:
             k0 = start[i]
             k1 = inner_end[i]
@@ -310,6 +384,15 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
             else:
                 accx, accz, div, diff, shep = _sums_wendland(
                     i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz)
+            if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
+                t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
+                                   visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
+                                   inner_end)
+                accx += t[0]
+                accz += t[1]
+                div += t[2]
+                diff += t[3]
+                shep += t[4]
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 
@@ -318,15 +401,16 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
 def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
                        kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op,
                        kin, shift, sx, sz):
-    """:func:`interact` with every particle summed by :func:`_sums_general`, one rule at a
-    time (the test oracle of the fast loop)."""
+    """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
+    one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
     for i in prange(x.shape[0]):
         if kind[i] != FLUID:
             continue
         accx, accz, div, diff, shep = _sums_general(
             i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
-            visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin)
+            visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
+            cell_of, cell_start)
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 

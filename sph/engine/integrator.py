@@ -81,9 +81,11 @@ def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind
             nvz = vz_old[i] + 2.0 * dt * az[i]
             nrho = rho_old[i] + 2.0 * dt * drho[i]
         if ab[AB_FORM] != 0.0:
-            fac = 1.0 / (1.0 + dt_eff * sigma(x[i], nvx, ab))
-            nvx *= fac
-            nvz *= fac
+            s = sigma(x[i], nvx, ab)
+            if s != 0.0:  # inside the zone
+                fac = 1.0 / (1.0 + dt_eff * s)
+                nvx *= fac
+                nvz *= fac
         vx_old[i] = vx[i]
         vz_old[i] = vz[i]
         rho_old[i] = rho[i]

@@ -48,23 +48,26 @@ KP_R2MAX = 3  #: squared support radius
 KP_INV_H2 = 4  #: 1 / h^2
 KP_SIZE = 5
 
-#: exp(-k/64) for k = 0 .. 9*64 + 1: the Gaussian's exponential over its support r <= 3h
-#: (:func:`exp_neg`)
-_EXP_STEPS = 64.0
-_EXP_TABLE = np.exp(-np.arange(int(9 * _EXP_STEPS) + 2) / _EXP_STEPS)
-
-
 @njit(inline="always", **JIT)
 def exp_neg(s):
-    r""":math:`e^{-s}` for :math:`0 \le s \le 9` to a relative 1e-12: a table value at
-    the nearest 1/64 below times the 5th-order Taylor series of the remainder
-    (:math:`r < 1/64`, truncation :math:`r^6/720 < 2\times10^{-14}`). The library
-    exponential took about half the time of a Gaussian pair loop; this is a table load and
-    five multiply-adds."""
-    k = int(s * _EXP_STEPS)
-    r = s - k / _EXP_STEPS
-    return _EXP_TABLE[k] * (1.0 + r * (-1.0 + r * (0.5 + r * (-1.0 / 6.0 + r * (
-        1.0 / 24.0 - r * (1.0 / 120.0))))))
+    r""":math:`e^{-s}` for :math:`0 \le s \le 9` to a relative 1e-13:
+    :math:`(e^{-s/64})^{64}`, the inner exponential by its 9th-order Taylor series
+    (:math:`s/64 \le 0.14`, truncation below 1e-16) and the power by six squarings
+    (each doubles the round-off: about 7e-14 at most over the support). Fifteen
+    multiply-adds and no memory access, so that a pair loop over a neighbour list
+    vectorises without gathers: the library exponential took about half the time of a
+    Gaussian pair loop, and a table of :math:`e^{-k/64}` with a short series of the
+    remainder (one gather per pair) about 1.13 times this one."""
+    r = s * (-1.0 / 64.0)
+    e = 1.0 + r * (1.0 + r * (1.0 / 2.0 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (
+        1.0 / 120.0 + r * (1.0 / 720.0 + r * (1.0 / 5040.0 + r * (1.0 / 40320.0 + r * (
+            1.0 / 362880.0)))))))))
+    e = e * e
+    e = e * e
+    e = e * e
+    e = e * e
+    e = e * e
+    return e * e
 
 
 def kernel_params(name: str, h: float) -> np.ndarray:

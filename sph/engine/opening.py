@@ -160,11 +160,15 @@ BISECTIONS = 10
 def keel_frame(x, z, op, kin):
     """Earth ``(x, z)`` -> keel frame ``(u, w)`` of the damaged hull."""
     g = int(op[OP_GROUP])
-    ct = math.cos(kin[g, 2])
-    st = math.sin(kin[g, 2])
+    return _to_keel(x, z, math.cos(kin[g, 2]), math.sin(kin[g, 2]), kin, g, op[OP_KG])
+
+
+@njit(inline="always", **JIT)
+def _to_keel(x, z, ct, st, kin, g, kg):
+    """:func:`keel_frame` with the cosine and sine of the hull's angle given."""
     rx = x - kin[g, 0]
     rz = z - kin[g, 1]
-    return ct * rx + st * rz, -st * rx + ct * rz + op[OP_KG]
+    return ct * rx + st * rz, -st * rx + ct * rz + kg
 
 
 @njit(**JIT)
@@ -179,8 +183,11 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
         if ex * ex + ez * ez > op[OP_REACH2]:
             return False
     s = op[OP_SHAPE:OP_SHAPE_END]
-    ui, wi = keel_frame(xi, zi, op, kin)
-    uj, wj = keel_frame(xj, zj, op, kin)
+    g = int(op[OP_GROUP])
+    ct = math.cos(kin[g, 2])
+    st = math.sin(kin[g, 2])
+    ui, wi = _to_keel(xi, zi, ct, st, kin, g, op[OP_KG])
+    uj, wj = _to_keel(xj, zj, ct, st, kin, g, op[OP_KG])
     # the crossing point lies between the ends: both ends on the far side of the hull, or
     # both below or both above the opening, and it cannot be inside the opening
     side = op[OP_SIDE]
@@ -208,20 +215,29 @@ def crosses_opening(xi, zi, xj, zj, op, kin):
 
 
 @njit(inline="always", **JIT)
+def opening_circle(op, pad):
+    """``(cx, cz, r2)`` such that :func:`near_opening` of ``(x, z)`` with this ``pad`` is
+    ``(x - cx)**2 + (z - cz)**2 <= r2``: ``r2`` is -1 while the opening is closed and
+    1e300 when the quick-test circle is not set. A loop over particles takes it once."""
+    if op[OP_OPEN] == 0.0:
+        return 0.0, 0.0, -1.0
+    if op[OP_REACH2] == 0.0:
+        return 0.0, 0.0, 1.0e300
+    reach = math.sqrt(op[OP_REACH2]) + pad
+    return op[OP_CENTRE_X], op[OP_CENTRE_Z], reach * reach
+
+
+@njit(inline="always", **JIT)
 def near_opening(x, z, op, pad):
     """True when a particle at ``(x, z)`` is within ``pad`` of the reach of the open
     opening's quick-test circle (or anywhere when the circle is not set). A particle
     beyond the reach (``pad = 0``) sees only its own compartment: :func:`crosses_opening`
     is false for every pair it begins. A wall particle whose fluid neighbours begin the
     pairs is tested with ``pad`` = the kernel support."""
-    if op[OP_OPEN] == 0.0:
-        return False
-    if op[OP_REACH2] == 0.0:
-        return True
-    ex = x - op[OP_CENTRE_X]
-    ez = z - op[OP_CENTRE_Z]
-    reach = math.sqrt(op[OP_REACH2]) + pad
-    return ex * ex + ez * ez <= reach * reach
+    cx, cz, r2 = opening_circle(op, pad)
+    ex = x - cx
+    ez = z - cz
+    return ex * ex + ez * ez <= r2
 
 
 @njit(**JIT)
