@@ -13,10 +13,23 @@ it is measured after t2, a measure and a test), evaluated in order by
 Measures (``T`` the wave period, ``t1`` the damage time, ``t2`` the start of the dynamic
 equilibrium, ``t2_periods * T``):
 
-- *amplitude* of a signal over a window: half the range between its 5th and 95th
-  percentiles (a sine of amplitude a gives 0.988 a; single spikes do not count);
-- *first peak* of Q/V: the first local maximum after ``t1`` whose prominence is at least 2 %
-  of the largest Q/V (the maximum over ``[t1, t1 + 3 T]`` if there is none);
+- *running mean*: the centred mean over one wave period (undefined within half a period
+  of either end of the run);
+- *amplitude* of a signal over a window: half the range between the 5th and 95th
+  percentiles of its oscillation about the running mean (a sine of amplitude a gives
+  0.988 a; single spikes do not count; a ship still sinking or a cabin still filling adds
+  nothing);
+- *first peak* of Q/V: the first local maximum after ``t1`` of its running mean whose
+  prominence is at least 2 % of the largest (the maximum over ``[t1, t1 + 3 T]`` if there
+  is none): the same event, the end of the first inrush, for every opening, not a crest
+  of the water exchanged at the wave frequency;
+- *mean heel*: the mean roll over the whole periods between ``t1`` and ``t2``;
+- *harmonics*: the amplitudes and phases of sinusoids at given frequencies (the wave
+  frequency ω, 2ω, a cabin's sloshing frequency) fitted together by least squares, with a
+  straight line, to the signal after ``t2``;
+- *mean frequency*: the power-weighted mean frequency of the oscillation over a window,
+  between ω/2 and 3ω (a Hann-windowed periodogram on a fine grid); the *mean period* is
+  2π over it;
 - *initial inflow rate*: the mean of dQ/dt over ``[t1, t1 + T/2]``;
 - *fluctuation* of Q: ``(max - min) / max`` over ``[t2, t_end]``.
 """
@@ -33,6 +46,23 @@ from sph.study.sweeps import DEFAULT_AMPLITUDE
 
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
 NEAR_MINIMUM = 0.10
+#: a phase difference "approximately" the paper's value: within a quarter of pi, half the
+#: step between the values it gives (pi, pi/2, 0), so each measured phase names one of them
+PHASE_TOLERANCE = math.pi / 4
+#: the phase differences between the sloshing in the damaged cabin (W2) and in the cargo
+#: cabins (W1) that the paper reads at each fill ratio (Sec. IV D, Fig. 22)
+PAPER_PHASES = {0.25: math.pi, 0.5: math.pi / 2, 0.75: 0.0}
+#: a sloshing wave "with higher harmonics, doubling the frequency": its 2ω amplitude at
+#: least this fraction of its ω amplitude (a double crest shows in the record)
+SECOND_HARMONIC = 0.10
+#: a beat of the wave and the sloshing frequency "detected": the cabin's free sloshing
+#: amplitude at least this fraction of the forced one (the envelope then swells and
+#: shrinks by 2 r / (1 + r) = 40 % or more)
+BEAT = 0.25
+#: a mean period or frequency counts as longer or higher than another when it exceeds it
+#: by this fraction (the measure reads two equal sines over three periods, one of them
+#: with a sinking trend, equal to 1e-4)
+DISTINCT_FREQUENCY = 0.01
 #: the flood-volume fluctuation counts as "about 10 %" inside this band
 FLUCTUATION_BAND = (0.05, 0.20)
 #: "slightly larger" means a ratio inside this band
@@ -72,6 +102,66 @@ def amplitude(y) -> float:
     return 0.5 * float(hi - lo)
 
 
+def running_mean(t, y, period: float) -> np.ndarray:
+    """The centred mean of ``y`` over one ``period`` (samples evenly spaced in ``t``); NaN
+    where the period reaches past either end."""
+    import pandas as pd
+
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if t.size < 2:
+        return np.full(y.shape, np.nan)
+    n = max(int(round(period / float(np.median(np.diff(t))))), 1)
+    return pd.Series(y).rolling(n, center=True, min_periods=n).mean().to_numpy()
+
+
+def oscillation(t, y, period: float) -> np.ndarray:
+    """``y`` about its one-period running mean (:func:`running_mean`)."""
+    return np.asarray(y, dtype=float) - running_mean(t, y, period)
+
+
+def harmonics(t, y, omegas: Sequence[float]) -> np.ndarray:
+    """Complex amplitudes ``a e^{i phi}`` of the sinusoids ``a sin(w t + phi)`` at the
+    angular frequencies ``omegas`` fitted together with a straight line to ``y`` by least
+    squares (NaN samples left out); NaN when fewer samples than unknowns. Unlike a
+    periodogram it parts frequencies closer than one over the window, and unlike the
+    running mean the line takes a drift out without weighting the frequencies."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    ok = np.isfinite(y)
+    t, y = t[ok], y[ok]
+    if y.size < 2 * len(omegas) + 3:
+        return np.full(len(omegas), np.nan + 0j)
+    cols = [np.ones_like(t), t - t.mean()]
+    for w in omegas:
+        cols += [np.sin(w * t), np.cos(w * t)]
+    coef = np.linalg.lstsq(np.column_stack(cols), y, rcond=None)[0]
+    s, c = coef[2::2], coef[3::2]  # a sin(wt + phi) = a cos(phi) sin(wt) + a sin(phi) cos(wt)
+    return s + 1j * c
+
+
+def mean_frequency(t, y, omega: float) -> float:
+    """Power-weighted mean angular frequency of ``y`` (evenly sampled, NaN samples at the
+    ends left out) between ``omega / 2`` and ``3 omega``, from a Hann-windowed periodogram
+    zero-padded to a fine grid."""
+    from scipy.signal import periodogram
+
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    ok = np.isfinite(y)
+    if ok.sum() < 8:
+        return float("nan")
+    t, y = t[ok], y[ok]
+    dt = float(np.median(np.diff(t)))
+    f, pw = periodogram(y - y.mean(), fs=1.0 / dt, window="hann",
+                        nfft=max(4096, 16 * y.size))
+    w = 2.0 * math.pi * f
+    band = (w >= 0.5 * omega) & (w <= 3.0 * omega)
+    if not np.any(pw[band] > 0.0):
+        return float("nan")
+    return float(np.sum(w[band] * pw[band]) / np.sum(pw[band]))
+
+
 def window(t, y, start: float, end: float | None = None) -> np.ndarray:
     """Samples of ``y`` with ``start <= t <= end``."""
     t = np.asarray(t, dtype=float)
@@ -82,12 +172,13 @@ def window(t, y, start: float, end: float | None = None) -> np.ndarray:
 
 
 def first_peak(t, q, t1: float, period: float) -> tuple[float, float]:
-    """Time and value of the first peak of ``q`` after ``t1`` (see the module docstring)."""
+    """Time and value of the first peak of the running mean of ``q`` after ``t1`` (see
+    the module docstring)."""
     from scipy.signal import find_peaks
 
     t = np.asarray(t, dtype=float)
-    q = np.asarray(q, dtype=float)
-    sel = t >= t1
+    q = running_mean(t, q, period)
+    sel = (t >= t1) & np.isfinite(q)
     ts, qs = t[sel], q[sel]
     if qs.size < 3:
         return float("nan"), float("nan")
@@ -172,8 +263,20 @@ class _Sweep:
             v = v.sel(probe=probe)
         return v.values
 
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi / self.period
+
     def steady(self, case: str, name: str, probe: str | None = None) -> np.ndarray:
         return window(self.t, self.series(case, name, probe), self.t2)
+
+    def oscillation(self, case: str, name: str, probe: str | None = None,
+                    start: float | None = None, end: float | None = None):
+        """Times and the oscillation about the running mean over ``[start, end]``
+        (default: after t2)."""
+        y = oscillation(self.t, self.series(case, name, probe), self.period)
+        start = self.t2 if start is None else start
+        return window(self.t, self.t, start, end), window(self.t, y, start, end)
 
     def label(self, case: str) -> str:
         return case_label(self.cases[case])
@@ -210,7 +313,7 @@ class _Cases:
     (:func:`sph.study.sweeps.groups`), each list in the group's order."""
 
     def __init__(self, s: _Sweep, groups: Mapping[str, Sequence[str]]):
-        par = s.cases
+        self.par = par = s.cases
         self.opening = list(groups.get("opening", []))
         self.damaged = [c for c in self.opening if par[c]["opening"] > 0]
         self.intact = [c for c in self.opening if par[c]["opening"] == 0]
@@ -253,6 +356,23 @@ class _Cases:
     def cargo_fills(self) -> list[str]:
         return self.filled if len(self.filled) >= 2 else []
 
+    def _at_fills(self, fills) -> list[str]:
+        return [c for c in self.filled
+                if any(abs(self.par[c]["fill"] - f) < 1e-6 for f in fills)]
+
+    def phase_fills(self) -> list[str]:
+        """The cases at two or more of the fill ratios whose phase the paper gives."""
+        cases = self._at_fills(PAPER_PHASES)
+        return cases if len(cases) >= 2 else []
+
+    def low_fills(self) -> list[str]:
+        """The cases at 25 and 50 % fill."""
+        return self._at_fills((0.25, 0.5))
+
+    def high_fill(self) -> list[str]:
+        """The case at 75 % fill."""
+        return self._at_fills((0.75,))
+
     def still_and_waves(self) -> list[str]:
         """The still-water case first, then every wave case."""
         return self.still[:1] + self.waves if self.still and self.waves else []
@@ -264,11 +384,11 @@ class _Cases:
 # ------------------------------------------------------------------------------ measures
 # per case: sweep, case -> number
 def _roll_amplitude(s: _Sweep, c: str) -> float:
-    return amplitude(s.steady(c, "roll"))
+    return amplitude(s.oscillation(c, "roll")[1])
 
 
 def _heave_amplitude(s: _Sweep, c: str) -> float:
-    return amplitude(s.steady(c, "heave"))
+    return amplitude(s.oscillation(c, "heave")[1])
 
 
 def _heave_mean(s: _Sweep, c: str) -> float:
@@ -276,11 +396,11 @@ def _heave_mean(s: _Sweep, c: str) -> float:
 
 
 def _w1_amplitude(s: _Sweep, c: str) -> float:
-    return amplitude(s.steady(c, "probe_elevation", "W1"))
+    return amplitude(s.oscillation(c, "probe_elevation", "W1")[1])
 
 
 def _w2_amplitude(s: _Sweep, c: str) -> float:
-    return amplitude(s.steady(c, "probe_elevation", "W2"))
+    return amplitude(s.oscillation(c, "probe_elevation", "W2")[1])
 
 
 def _inflow(s: _Sweep, c: str) -> float:
@@ -291,9 +411,53 @@ def _fluctuation(s: _Sweep, c: str) -> float:
     return fluctuation(s.steady(c, "flood_volume"))
 
 
-def _largest_roll(s: _Sweep, c: str) -> float:
-    r = window(s.t, s.series(c, "roll"), s.t1)
-    return float(r[int(np.nanargmax(np.abs(r)))])
+def _mean_heel(s: _Sweep, c: str) -> float:
+    """Mean roll over the whole periods between t1 and t2."""
+    k = math.floor((s.t2 - s.t1) / s.period + 1e-9)
+    if k < 1 or s.t_end < s.t1 + k * s.period:
+        return float("nan")
+    return float(np.nanmean(window(s.t, s.series(c, "roll"), s.t1, s.t1 + k * s.period)))
+
+
+def _sloshing_phase(s: _Sweep, c: str) -> float:
+    """Phase difference (0 to pi) at the wave frequency between W2 and W1 after t2."""
+    t = window(s.t, s.t, s.t2)
+    a1 = harmonics(t, s.steady(c, "probe_elevation", "W1"), [s.omega])[0]
+    a2 = harmonics(t, s.steady(c, "probe_elevation", "W2"), [s.omega])[0]
+    if not (np.isfinite(a1) and np.isfinite(a2)) or a1 == 0 or a2 == 0:
+        return float("nan")
+    return float(abs(np.angle(a2 / a1)))
+
+
+def _second_harmonic(s: _Sweep, c: str) -> float:
+    """W2's amplitude at 2ω over its amplitude at ω, after t2."""
+    a = np.abs(harmonics(window(s.t, s.t, s.t2), s.steady(c, "probe_elevation", "W2"),
+                         [s.omega, 2.0 * s.omega]))
+    return float(a[1] / a[0]) if a[0] > 0 else float("nan")
+
+
+def _beat(s: _Sweep, c: str) -> float:
+    """W1's amplitude at the cabin's first sloshing frequency (Table II) over its amplitude
+    at ω, after t2."""
+    from sph.study.validation import TABLE_II_SLOSHING
+
+    fill = min(TABLE_II_SLOSHING, key=lambda f: abs(f - s.cases[c]["fill"]))
+    a = np.abs(harmonics(window(s.t, s.t, s.t2), s.steady(c, "probe_elevation", "W1"),
+                         [s.omega, TABLE_II_SLOSHING[fill] * s.omega]))
+    return float(a[1] / a[0]) if a[0] > 0 else float("nan")
+
+
+def _roll_frequency(s: _Sweep, c: str) -> float:
+    """Mean frequency of the roll after t2, in units of ω."""
+    return mean_frequency(*s.oscillation(c, "roll"), s.omega) / s.omega
+
+
+def _heave_period(s: _Sweep, c: str) -> float:
+    """Mean period of the heave between t1 and t2, in units of T."""
+    if s.t_end < s.t2:
+        return float("nan")
+    return s.omega / mean_frequency(*s.oscillation(c, "heave", start=s.t1, end=s.t2),
+                                    s.omega)
 
 
 #: a measure: (sweep, cases) -> (values by case, the "measured" text)
@@ -318,7 +482,8 @@ def _first_peaks(s: _Sweep, cases: Sequence[str]):
     peaks = {c: first_peak(s.t, s.series(c, "flood_ratio"), s.t1, s.period) for c in cases}
     text = "; ".join(f"{s.label(c)}: {v:.3g} at t/T = {tp / s.period:.2f}"
                      for c, (tp, v) in peaks.items())
-    return {c: v for c, (_, v) in peaks.items()}, "first Q/V peak: " + text
+    return ({c: v for c, (_, v) in peaks.items()},
+            "first peak of the one-period mean of Q/V: " + text)
 
 
 def _head_over_back(values: Mapping[str, float]) -> float:
@@ -377,6 +542,30 @@ def _away_from_opening(values, s) -> bool:
         away = -1.0 if s.cases[c]["side"] == "back" else 1.0
         ok &= v * away > 0
     return ok
+
+
+def _first_shortest(values, s) -> bool:
+    """Every case after the first longer than the first (:data:`DISTINCT_FREQUENCY`)."""
+    first, *rest = values
+    return all(values[c] > (1.0 + DISTINCT_FREQUENCY) * values[first] for c in rest)
+
+
+def _back_higher(values, s) -> bool:
+    back, head = values.values()
+    return back > (1.0 + DISTINCT_FREQUENCY) * head
+
+
+def _phases_as_paper(values, s) -> bool:
+    return all(abs(v - PAPER_PHASES[min(PAPER_PHASES, key=lambda f: abs(
+        f - s.cases[c]["fill"]))]) <= PHASE_TOLERANCE for c, v in values.items())
+
+
+def _with_second_harmonic(values, s) -> bool:
+    return all(v >= SECOND_HARMONIC for v in values.values())
+
+
+def _beats(values, s) -> bool:
+    return all(v >= BEAT for v in values.values())
 
 
 def _half_near_minimum(values, s) -> bool:
@@ -459,7 +648,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F7", "The largest roll angle after damage is towards the side opposite the opening",
         "Sec. IV C; Sec. V", "side (else opening)", "a damaged case",
         _Cases.sides_or_damaged, False,
-        _each(_largest_roll, "largest roll after t1 (deg, + towards the waves' travel)"),
+        _each(_mean_heel, "mean heel over the whole periods between t1 and t2 (deg, + "
+              "towards the waves' travel)"),
         _away_from_opening),
     FindingSpec(
         "F8", "The roll after t2 is near its minimum at the fill ratio η = 50 %",
@@ -507,6 +697,41 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F15", "The heave amplitude after t2 is set mainly by the wave amplitude: it grows "
         "with it", "Sec. IV B, Fig. 10(b)", "amplitude", _AMPLITUDES, _Cases.amplitudes,
         True, _each(_heave_amplitude, "heave amplitude after t2 (m)"), _all_increasing),
+    FindingSpec(
+        "F16", "The sloshing in the damaged cabin (W2) and in the cargo cabins (W1) differ "
+        "in phase by about π at η = 25 %, π/2 at 50 % and 0 at 75 %", "Sec. IV D, Fig. 22",
+        "fill", "two or more of the fill ratios 25, 50 and 75 %", _Cases.phase_fills, True,
+        _each(_sloshing_phase, "phase of W2 against W1 at ω after t2 (rad)",
+              suffix=lambda v: f" (about: within π/4 = {PHASE_TOLERANCE:.3g} rad)"),
+        _phases_as_paper),
+    FindingSpec(
+        "F17", "At η = 25 % and 50 % the sloshing of the flood water carries the second "
+        "harmonic 2ω", "Sec. IV D, Fig. 22", "fill", "the fill ratio 25 % or 50 %",
+        _Cases.low_fills, True,
+        _each(_second_harmonic, "W2 amplitude at 2ω over that at ω after t2",
+              suffix=lambda v: f" (carries it: {SECOND_HARMONIC:g} or more)"),
+        _with_second_harmonic),
+    FindingSpec(
+        "F18", "At η = 75 % the cargo sloshing beats at the difference of the wave and the "
+        "cabin's sloshing frequencies", "Sec. IV D, Fig. 22; Table II", "fill",
+        "the fill ratio 75 %", _Cases.high_fill, True,
+        _each(_beat, "W1 amplitude at the sloshing frequency (Table II) over that at ω "
+              "after t2", suffix=lambda v: f" (beats: {BEAT:g} or more)"),
+        _beats),
+    FindingSpec(
+        "F19", "At dynamic equilibrium the ship rolls at a higher frequency with the opening "
+        "on the back side than facing the waves", "Sec. IV C, Fig. 18; Sec. V", "side",
+        _BOTH_SIDES, _Cases.back_and_head, True,
+        _each(_roll_frequency, "mean roll frequency after t2 (ω)",
+              suffix=lambda v: f" (higher: by {100 * DISTINCT_FREQUENCY:g} % or more)"),
+        _back_higher),
+    FindingSpec(
+        "F20", "Between t1 and t2 the damaged ship heaves with a longer period than the "
+        "intact ship", "Sec. IV B, Fig. 14", "opening", _INTACT_DAMAGED,
+        _Cases.intact_and_damaged, False,
+        _each(_heave_period, "mean heave period between t1 and t2 (T)",
+              suffix=lambda v: f" (longer: by {100 * DISTINCT_FREQUENCY:g} % or more)"),
+        _first_shortest),
 )
 
 

@@ -129,7 +129,7 @@ def test_ship_overrides_and_case_document():
     assert over["numerics.dx"] == 0.8
     assert over["geometry.damage.opening"] == pytest.approx(5 / 7)
     assert over["geometry.wavemaker.amplitude"] == pytest.approx(2.0)
-    assert over["run.t_end"] == pytest.approx(10 * 2 * math.pi)
+    assert over["run.t_end"] == pytest.approx(12 * 2 * math.pi)
     assert over["geometry.cargo_density"] == 850.0
     doc = study.case_document("damaged_ship", over)
     assert doc["geometry"]["damage"] == {"opening": pytest.approx(5 / 7), "side": "back"}

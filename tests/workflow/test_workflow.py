@@ -192,7 +192,7 @@ def test_toy_workflow_writes_the_sweep_dataset(toy):
     findings = (toy / "results" / "test" / "findings.csv").read_text().splitlines()
     assert findings[0].startswith("id,statement")
     ids = [ln.split(",")[0] for ln in findings[1:]]
-    assert ids == [f"F{i}" for i in range(1, 16)]  # every finding reported, once, in order
+    assert ids == [f"F{i}" for i in range(1, 21)]  # every finding reported, once, in order
 
 
 def test_toy_report_shows_every_figure_and_table(toy):
