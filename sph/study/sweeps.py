@@ -70,7 +70,7 @@ DEFAULT_SIDE = str(SHIP_DEFAULTS["damage"]["side"])
 DEFAULT_FILL = float(SHIP_DEFAULTS["fill"])
 #: top-level keys of a sweep configuration
 SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference", "t2_periods",
-              "validation", "validation_data")
+              "validation", "validation_data", "calibrate_wavemaker")
 #: sections of a preset
 PRESET_KEYS = ("description", "ship", "wave_tank", "sloshing", "decay", "floating_box",
                "dam_break")
@@ -327,7 +327,24 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
             raise ConfigError(f"validation[{i}]", f"unknown validation target {t!r}; must "
                               f"be one of {', '.join(VALIDATION_TARGETS)}")
     cfg["validation"] = list(dict.fromkeys(targets))
+    calibrate = config.get("calibrate_wavemaker", True)
+    if calibrate in ("true", "false", "True", "False"):  # `--config calibrate_wavemaker=false`
+        calibrate = calibrate.lower() == "true"
+    if not isinstance(calibrate, bool):
+        raise ConfigError("calibrate_wavemaker", f"must be true or false; got {calibrate!r}")
+    cfg["calibrate_wavemaker"] = calibrate
     return cfg
+
+
+def wave_key(overrides: Mapping[str, Any]) -> str | None:
+    """The name of the wave of a ship run's values (:func:`ship_overrides`), which names its
+    wavemaker calibration (:mod:`sph.study.calibration`): ``A2_w1`` for A = 2 m and
+    omega = 1 rad/s; None in still water."""
+    amplitude = overrides.get("geometry.wavemaker.amplitude")
+    if amplitude is None:
+        return None
+    omega = overrides.get("geometry.wavemaker.omega", SHIP_DEFAULTS["wavemaker"]["omega"])
+    return f"A{float(amplitude):g}_w{float(omega):g}"
 
 
 # ------------------------------------------------------------------------------ case files

@@ -82,6 +82,9 @@ def test_dry_run_lists_the_table_one_simulations(work):
     counts = _job_counts(res.stdout)
     assert counts["simulate_case"] == N_TABLE_ONE
     assert counts["case_file"] == N_TABLE_ONE
+    # one wave in Table I: one wavemaker calibration, which every case file waits for
+    assert counts["calibrate_wavemaker"] == 1
+    assert res.stdout.count("input: results/table1/calibration/A2_w1.json") == N_TABLE_ONE
     # validation: wave tank at 3 dx, sloshing at 3 fills, roll and heave decay, box, dam break
     assert counts["simulate_validation"] == 10
     for rule in ("gather", "findings", "validation_summary", "overview_figure", "all"):
@@ -111,8 +114,16 @@ def test_dry_run_of_the_wave_amplitude_sweep(work):
     assert res.returncode == 0, res.stderr + res.stdout
     counts = _job_counts(res.stdout)
     assert counts["simulate_case"] == 5
+    assert counts["calibrate_wavemaker"] == 4  # one per wave; none for still water
     assert counts["ship_figure"] == 1  # only Fig. 10 compares these cases
     assert "results/wave_amplitude/figures/fig10_amplitude.png" in res.stdout
+
+
+def test_dry_run_without_the_calibration(work):
+    res = _snakemake(work, "-n", "--config", "calibrate_wavemaker=false")
+    assert res.returncode == 0, res.stderr + res.stdout
+    counts = _job_counts(res.stdout)
+    assert "calibrate_wavemaker" not in counts and counts["case_file"] == N_TABLE_ONE
 
 
 def test_presets_select_the_resolution(work):

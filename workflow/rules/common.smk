@@ -134,6 +134,31 @@ def ship_document(wildcards):
     return study.case_document("damaged_ship", SHIP_OVERRIDES[wildcards.case])
 
 
+#: The waves of the sweep's ship runs that get a wavemaker calibration: wave name -> the
+#: first case with that wave (sph.study.sweeps.wave_key; none in still water or with
+#: calibrate_wavemaker: false).
+CALIBRATED_WAVES = {}
+if SWEEP_CFG["calibrate_wavemaker"]:
+    for cid, over in SHIP_OVERRIDES.items():
+        key = study.wave_key(over)
+        if key is not None:
+            CALIBRATED_WAVES.setdefault(key, cid)
+
+
+def calibration_document(wildcards):
+    """The ship case file whose wave the calibration measures."""
+    return study.case_document("damaged_ship",
+                               SHIP_OVERRIDES[CALIBRATED_WAVES[wildcards.wave]])
+
+
+def calibration_of(wildcards):
+    """The calibration a ship case file takes its flap angle from ([] if none)."""
+    key = study.wave_key(SHIP_OVERRIDES[wildcards.case])
+    if key is None or key not in CALIBRATED_WAVES:
+        return []
+    return [f"results/{wildcards.sweep}/calibration/{key}.json"]
+
+
 def validation_document(wildcards):
     case, over = VALIDATION[wildcards.target][wildcards.run]
     return study.case_document(case, over)

@@ -15,7 +15,28 @@ SPH_RUN = (
 )
 
 
+rule calibrate_wavemaker:
+    # the flap angle that gives the ship's wave amplitude at its position (a wave-tank run
+    # with the ship's numerics and no ship, repeated until within 2 %; sph/study/calibration.py)
+    output:
+        "results/{sweep}/calibration/{wave}.json",
+    params:
+        document=calibration_document,
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/calibration/{wave}.log",
+    benchmark:
+        "results/{sweep}/benchmarks/calibration/{wave}.tsv"
+    threads: 1
+    priority: SHIP_PRIORITY + 1
+    script:
+        "../scripts/calibrate_wavemaker.py"
+
+
 rule case_file:
+    input:
+        calibration=calibration_of,
     output:
         "results/{sweep}/cases/{case}.yaml",
     params:

@@ -1,0 +1,152 @@
+"""Wavemaker calibration at the ship's position.
+
+Linear flap theory gives the flap angle for a wave of amplitude A, but the wave the ship
+meets is smaller: the artificial viscosity damps it on the way from the flap, and the wave
+grows less than linearly with the flap angle (at the coarse preset a 2 m wave arrives at
+2H = 60 m 15 % low). As in a model basin, the wavemaker is calibrated at the
+model's position instead: a wave-tank run with the ship case's numerics, tank and absorbing
+zone and no ship (:func:`tank_document`) measures the incident amplitude where the ship's
+centre line will be, over the periods the ship meets the wave before and after the damage
+(:func:`incident_amplitude`); the flap angle is scaled by the ratio of the target amplitude
+to the measured one and the run repeated until the two agree within :data:`TOLERANCE`
+(:func:`calibrate`). The ship cases then run with the calibrated angle
+(:func:`calibrated_document`).
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+
+#: the incident amplitude at the ship is the target within this fraction
+TOLERANCE = 0.02
+#: wave-tank runs at most; a calibration that has not converged by then stops with an error
+MAX_RUNS = 4
+#: the measuring window: from the damage time t1 for this many wave periods (the ship meets
+#: fully developed waves from t1 on, Cao et al. 2019, Sec. IV A)
+WINDOW_PERIODS = 3.0
+#: name of the surface probe at the ship's centre line
+PROBE = "ship"
+
+
+class CalibrationError(RuntimeError):
+    """The calibration did not converge."""
+
+
+def tank_document(ship_doc: Mapping[str, Any]) -> dict:
+    """The wave-tank case file of a ship case file: the ship's numerics, fluid, tank,
+    absorbing zone and wavemaker (its angle from linear theory for the ship's amplitude),
+    no ship, one surface probe at the ship's centre line, run to the end of the measuring
+    window."""
+    from sph.bodies.wavemaker import FlapMotion
+    from sph.cases import build_case
+
+    cfg = build_case(copy.deepcopy(dict(ship_doc)))
+    g = cfg.geometry
+    if g.wavemaker.file is not None:
+        raise ValueError("a wavemaker driven by a file is not calibrated")
+    period = 2.0 * math.pi / g.wavemaker.omega
+    wavemaker = dataclasses.asdict(g.wavemaker)
+    wavemaker.update(theta0=FlapMotion(g.wavemaker, g.depth, cfg.fluid.gravity).theta0,
+                     amplitude=None)
+    return {
+        "case": "wave_tank",
+        "title": f"Wavemaker calibration for: {cfg.title}",
+        "numerics": dataclasses.asdict(cfg.numerics),
+        "fluid": dataclasses.asdict(cfg.fluid),
+        "run": {"t_end": round(damage_time(cfg) + WINDOW_PERIODS * period, 9),
+                "output_interval": cfg.run.output_interval},
+        "geometry": {"depth": g.depth, "tank_length": g.tank_length,
+                     "tank_height": g.tank_height, "wavemaker": wavemaker,
+                     "absorber": dataclasses.asdict(g.absorber)},
+        "probes": {"surface": [{"name": PROBE, "x": g.ship_x}]},
+    }
+
+
+def damage_time(cfg) -> float:
+    """t1 (s) of a ship case: the start of the measuring window."""
+    return cfg.geometry.damage.time_periods * 2.0 * math.pi / cfg.geometry.wavemaker.omega
+
+
+def incident_amplitude(t, eta, start: float, omega: float) -> float:
+    """Amplitude of the wave-frequency component of the surface elevation ``eta`` from
+    ``start`` on (a sinusoid fitted with a straight line by least squares,
+    :func:`sph.study.findings.harmonics`)."""
+    from sph.study.findings import harmonics, window
+
+    t = np.asarray(t, dtype=float)
+    return float(abs(harmonics(window(t, t, start), window(t, eta, start), [omega])[0]))
+
+
+def run_tank(doc: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    """Run a wave-tank case file in this process; times and the elevation at the ship's
+    probe."""
+    from sph.cases import build_case
+    from sph.driver import Simulation
+
+    sim = Simulation(build_case(copy.deepcopy(dict(doc))))
+    sim.run()
+    ds = sim.dataset()
+    return ds["time"].values, ds["probe_elevation"].sel(probe=PROBE).values
+
+
+def calibrate(ship_doc: Mapping[str, Any],
+              run: Callable[[Mapping[str, Any]], tuple] = run_tank) -> dict:
+    """Calibrate the flap angle of a ship case file (see the module docstring).
+
+    Returns ``theta0`` (rad), the ``target`` amplitude (m) and the ``runs``: the angle and
+    the measured amplitude of each wave-tank run, the last within :data:`TOLERANCE`.
+
+    Raises
+    ------
+    CalibrationError
+        When :data:`MAX_RUNS` runs do not bring the amplitude within the tolerance.
+    """
+    from sph.cases import build_case
+
+    cfg = build_case(copy.deepcopy(dict(ship_doc)))
+    target = target_amplitude(cfg)
+    omega = cfg.geometry.wavemaker.omega
+    doc = tank_document(ship_doc)
+    runs = []
+    for _ in range(MAX_RUNS):
+        theta0 = doc["geometry"]["wavemaker"]["theta0"]
+        t, eta = run(doc)
+        measured = incident_amplitude(t, eta, damage_time(cfg), omega)
+        runs.append({"theta0": theta0, "amplitude": measured})
+        if not measured >= 0.1 * target:  # NaN included
+            raise CalibrationError(f"no wave at x = {cfg.geometry.ship_x:g} m with flap "
+                                   f"angle {theta0:.5g} rad: incident amplitude "
+                                   f"{measured:.3g} m, below a tenth of the target "
+                                   f"{target:.4g} m")
+        if abs(measured / target - 1.0) <= TOLERANCE:
+            return {"theta0": theta0, "target": target, "runs": runs,
+                    "tolerance": TOLERANCE, "x": cfg.geometry.ship_x}
+        doc["geometry"]["wavemaker"]["theta0"] = theta0 * target / measured
+    raise CalibrationError(f"incident amplitude {runs[-1]['amplitude']:.4g} m after "
+                           f"{MAX_RUNS} runs, target {target:.4g} m +- {100 * TOLERANCE:g} %")
+
+
+def target_amplitude(cfg) -> float:
+    """The wave amplitude (m) a ship case asks for: its ``wavemaker.amplitude``, or the
+    linear-theory amplitude of its ``theta0``."""
+    from sph.bodies.wavemaker import flap_wave_amplitude
+
+    w = cfg.geometry.wavemaker
+    if w.amplitude is not None:
+        return float(w.amplitude)
+    return flap_wave_amplitude(w.theta0, w.omega, cfg.geometry.depth, cfg.fluid.gravity)
+
+
+def calibrated_document(ship_doc: Mapping[str, Any], result: Mapping[str, Any]) -> dict:
+    """The ship case file with the calibrated flap angle in place of its amplitude."""
+    doc = copy.deepcopy(dict(ship_doc))
+    wm = doc.setdefault("geometry", {}).setdefault("wavemaker", {})
+    wm["theta0"] = float(result["theta0"])
+    wm["amplitude"] = None
+    return doc
