@@ -2,7 +2,7 @@
 
 Rule ``calibrate_wavemaker``: ``snakemake.params.document`` (a ship case file) ->
 ``snakemake.output[0]``, a JSON record of the calibrated angle and of every wave-tank run
-(:func:`sph.study.calibration.calibrate`).
+(:func:`sph.study.calibration.calibrate`), on the rule's ``threads``.
 """
 
 
@@ -12,8 +12,10 @@ import logging
 from sph.study.calibration import calibrate
 
 
-def main(document: dict, out: str) -> None:
+def main(document: dict, out: str, threads: int = 1) -> None:
     log = logging.getLogger("calibration")
+    document = dict(document)
+    document["numerics"] = dict(document.get("numerics") or {}, threads=int(threads))
     result = calibrate(document)
     for k, r in enumerate(result["runs"], start=1):
         log.info("run %d: theta0 = %.6g rad -> incident amplitude %.5g m at x = %g m "
@@ -27,4 +29,4 @@ if __name__ == "__main__":
     snakemake = globals()["snakemake"]
     logging.basicConfig(filename=snakemake.log[0], level=logging.INFO,
                         format="%(levelname)s %(message)s")
-    main(dict(snakemake.params.document), snakemake.output[0])
+    main(dict(snakemake.params.document), snakemake.output[0], snakemake.threads)
