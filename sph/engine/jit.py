@@ -7,7 +7,9 @@ one place.
 
 from __future__ import annotations
 
+import hashlib
 import os
+from pathlib import Path
 
 import numba
 
@@ -26,6 +28,34 @@ JIT_PARALLEL_PAIR = dict(JIT_PAIR, parallel=True)
 JIT_PARALLEL = dict(JIT, parallel=True)
 
 njit = numba.njit
+
+
+def engine_source_hash(folder: Path = Path(__file__).parent) -> str:
+    """A hash of every module of the engine (``sph/engine/*.py``): 16 hex digits."""
+    h = hashlib.sha256()
+    for path in sorted(folder.glob("*.py")):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def cache_dir(base: str | None = None) -> str:
+    """Where numba keeps the engine's compiled kernels: a folder per version of the
+    engine's sources, under ``NUMBA_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/sph-flood``
+    (``~/.cache/sph-flood``).
+
+    Numba checks a cached kernel against its own source file only: a kernel that inlines a
+    function of another module (every pair loop inlines the kernel functions) would keep
+    the old code after that module changed, and a run after an update would differ from a
+    fresh installation's. A folder per version of the whole engine rules that out."""
+    if not base:
+        base = os.path.join(os.environ.get("XDG_CACHE_HOME")
+                            or os.path.join(os.path.expanduser("~"), ".cache"), "sph-flood")
+    return os.path.join(base, "numba-" + engine_source_hash())
+
+
+# before any kernel below is defined: numba picks the cache folder when it decorates one
+numba.config.CACHE_DIR = cache_dir(numba.config.CACHE_DIR)
 
 
 def set_threads(n: int | None) -> int:

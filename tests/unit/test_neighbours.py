@@ -340,3 +340,4 @@ def test_permute_by_cell_order_then_neighbours():
     got = [neighbour_count(parts.x, parts.z, grid.cell_of, grid.cell_start, grid.ncx, r2, i)
            for i in range(n)]
     np.testing.assert_array_equal(got, _brute_force_counts(parts.x, parts.z, r2))
+

@@ -1,0 +1,41 @@
+"""Tests of the engine's compilation settings (sph.engine.jit)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+
+def test_compiled_kernels_are_cached_per_version_of_the_engine(tmp_path):
+    """Numba checks a cached kernel against its own file only; the engine keeps its cache in
+    a folder named by a hash of every engine module, so a change to any module (say the
+    kernel functions that every pair loop inlines) gives a fresh process a fresh cache."""
+    import numba
+
+    from sph.engine import jit
+
+    engine = Path(jit.__file__).parent
+    copy = tmp_path / "engine"
+    copy.mkdir()
+    for f in engine.glob("*.py"):
+        (copy / f.name).write_bytes(f.read_bytes())
+    before = jit.engine_source_hash(copy)
+    assert before == jit.engine_source_hash(engine)
+    with open(copy / "kernels.py", "a") as fh:
+        fh.write("\n# changed\n")
+    assert jit.engine_source_hash(copy) != before
+    assert numba.config.CACHE_DIR == jit.cache_dir(os.environ.get("NUMBA_CACHE_DIR"))
+    assert numba.config.CACHE_DIR.endswith("numba-" + before)
+    # a fresh process puts its compiled kernels there
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    code = textwrap.dedent("""
+        import numpy as np
+        from sph.engine.eos import fluid_pressures
+        rho = np.full(3, 1000.0); p = np.zeros(3)
+        fluid_pressures(rho, np.zeros(3, np.int32), p, 1000.0, 1.0e5, 7.0)
+    """)
+    subprocess.run([sys.executable, "-c", code], env=env, check=True)
+    assert list((tmp_path / "cache" / ("numba-" + before)).rglob("*.nbi"))
