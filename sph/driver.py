@@ -22,6 +22,7 @@ from sph import __version__
 from sph.cases import setup as case_setup
 from sph.engine.absorber import absorber_active, absorber_speed
 from sph.engine.config import CaseConfig
+from sph.engine.refinement import levels
 from sph.engine.stepper import SimulationError, Stepper
 from sph.io.checkpoint import remove_checkpoints, write_checkpoint
 from sph.io.output import VTKWriter, build_dataset, write_netcdf_atomic
@@ -83,8 +84,8 @@ class Simulation(Stepper):
         """The run so far as a CF-annotated :class:`xarray.Dataset`."""
         rec = self.record
         series = {k: np.asarray(v) for k, v in rec.series.items()}
-        for name in ("body_force_x", "body_force_z", "body_moment"):
-            if name in series:  # (time, body) -> (body, time)
+        for name in ("body_force_x", "body_force_z", "body_moment", "n_particles_level"):
+            if name in series:  # (time, body) -> (body, time); the same per level
                 series[name] = series[name].T
         probes = {}
         names = [pr.name for pr in self.cfg.probes.surface] + list(self.setup.extra_probes)
@@ -260,7 +261,8 @@ class Simulation(Stepper):
         p = self.parts
         vtk.write(self.t, p.x, p.z, {
             "velocity": np.column_stack([p.vx, p.vz]), "density": p.rho, "pressure": p.p,
-            "kind": p.kind.astype(np.int32), "id": p.pid.astype(np.int32)})
+            "kind": p.kind.astype(np.int32), "id": p.pid.astype(np.int32),
+            "level": levels(p.hs)})
 
 
 class _StopSignals:

@@ -74,10 +74,10 @@ def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
     zero = np.zeros(n)
     ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
     interact(x, z, vx, vz, rho, zero, m, np.zeros(n, np.int32), np.full(n, -1, np.int32),
-             np.zeros(n, np.int32), grid.cell_of, grid.cell_start, grid.ncx, kp, visc_coef,
-             0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
+             np.zeros(n, np.int32), np.ones(n), grid.cell_of, grid.cell_start, grid.ncx, kp,
+             visc_coef, 0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
              fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz,
-             pair_work(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid))
+             pair_work(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid), False)
     return ax, az, drho, sx, sz
 
 
@@ -85,6 +85,6 @@ def verlet_lists(x, z, kind, grid):
     """``start, inner, inner_end`` of the inner lists (what the fluid pair loop reads) of
     particles sorted by ``grid``, of the grid's cell size (the kernel support: no skin)."""
     nlist = NeighbourList()
-    nlist.build(x, z, kind, grid, grid.cell)
-    nlist.refresh(x, z, grid.cell)
+    nlist.build(x, z, kind, grid, grid.cell, np.ones(len(x)))
+    nlist.refresh(x, z, grid.cell, np.ones(len(x)))
     return nlist.start, nlist.inner, nlist.inner_end

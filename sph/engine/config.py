@@ -22,6 +22,26 @@ from sph.schema import ConfigError, spec
 # --------------------------------------------------------------------------- sections
 
 
+#: most refinement levels (each halves the particle spacing)
+MAX_LEVEL = 3
+
+
+@dataclass(frozen=True)
+class RefinementBox:
+    """A box of finer particles (:mod:`sph.engine.refinement`): spacing ``dx / 2**level``."""
+
+    x: list[float] = spec(lo=-1.0e6, hi=1.0e6, unit="m", doc="[xmin, xmax] of the box")
+    z: list[float] = spec(lo=-1.0e6, hi=1.0e6, unit="m", doc="[zmin, zmax] of the box")
+    level: int = spec(1, lo=1, hi=MAX_LEVEL, doc="refinement level: spacing dx / 2**level")
+
+    def check(self, key):
+        for name in ("x", "z"):
+            lim = getattr(self, name)
+            if len(lim) != 2 or not lim[0] < lim[1]:
+                raise ConfigError(f"{key}.{name}", f"must be [min, max] with min < max; got "
+                                  f"{list(lim)}")
+
+
 @dataclass(frozen=True)
 class Numerics:
     """Discretisation and numerical model."""
@@ -48,10 +68,30 @@ class Numerics:
     wall_layers: int = spec(0, lo=0, hi=20,
                             doc="layers of dummy particles; 0 = enough to cover the support")
     threads: int = spec(0, lo=0, hi=1024, doc="numba threads; 0 = NUMBA_NUM_THREADS")
+    refinement: list[RefinementBox] = spec(
+        [], doc="boxes of finer particles, each level halving dx (sph.engine.refinement); "
+                "a box of level l > 1 lies inside one of level l - 1")
 
     @property
     def h(self) -> float:
         return self.dx * (self.h_factor or DEFAULT_H_FACTOR[self.kernel])
+
+    @property
+    def max_level(self) -> int:
+        """The finest refinement level (0: uniform resolution)."""
+        return max((b.level for b in self.refinement), default=0)
+
+    def check(self, key):
+        boxes = self.refinement
+        for k, b in enumerate(boxes):
+            if b.level == 1:
+                continue
+            parents = [a for a in boxes if a.level == b.level - 1 and a.x[0] <= b.x[0]
+                       and b.x[1] <= a.x[1] and a.z[0] <= b.z[0] and b.z[1] <= a.z[1]]
+            if not parents:
+                raise ConfigError(f"{key}.refinement[{k}]", f"a box of level {b.level} must "
+                                  f"lie inside a box of level {b.level - 1}; got x = "
+                                  f"{list(b.x)}, z = {list(b.z)}")
 
 
 @dataclass(frozen=True)

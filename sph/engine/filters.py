@@ -28,14 +28,16 @@ from __future__ import annotations
 from numba import prange
 
 from sph.engine.jit import JIT_PARALLEL, njit
-from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
+from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import passable, sees
 from sph.engine.particles import FLUID
 
 
 @njit(**JIT_PARALLEL)
-def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, out, op, kin):
-    """First-order MLS density of every fluid particle into ``out`` (walls copied)."""
+def mls_density(x, z, rho, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp, out, op,
+                kin):
+    """First-order MLS density of every fluid particle into ``out`` (walls copied); each
+    pair takes its own smoothing length (``hs``, :func:`sph.engine.kernels.pair_scale`)."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):
@@ -53,11 +55,12 @@ def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, ou
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
-                if r2 >= r2max:
+                s = pair_scale(hs, i, j)
+                if r2 >= r2max * s * s:
                     continue
                 if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                     continue
-                w = w_r2(r2, kp)
+                w = w_scaled(r2, kp, s)
                 mw = m[j] * w
                 vw = mw / rho[j]
                 a11 += vw
@@ -82,9 +85,10 @@ def mls_density(x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, ou
 
 
 @njit(**JIT_PARALLEL)
-def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start, ncx, kp,
+def renormalised_density_gradient(x, z, rho, m, kind, comp, hs, cell_of, cell_start, ncx, kp,
                                   grx, grz, op, kin):
-    """Renormalised density gradient of every fluid particle (zero where L is singular)."""
+    """Renormalised density gradient of every fluid particle (zero where L is singular);
+    smoothing length per pair as in :func:`mls_density`."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     for i in prange(n):
@@ -106,11 +110,12 @@ def renormalised_density_gradient(x, z, rho, m, kind, comp, cell_of, cell_start,
                 dx = xi - x[j]
                 dz = zi - z[j]
                 r2 = dx * dx + dz * dz
-                if r2 >= r2max:
+                s = pair_scale(hs, i, j)
+                if r2 >= r2max * s * s:
                     continue
                 if comp[j] != ci and not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
                     continue
-                fv = f_r2(r2, kp) * m[j] / rho[j]
+                fv = f_scaled(r2, kp, s) * m[j] / rho[j]
                 mxx -= fv * dx * dx
                 mxz -= fv * dx * dz
                 mzz -= fv * dz * dz

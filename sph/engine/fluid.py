@@ -64,8 +64,8 @@ from sph.engine.kernels import (
     KP_KIND,
     KP_R2MAX,
     exp_neg,
-    f_r2,
-    w_given_f,
+    fw_scaled,
+    pair_scale,
     w_r2,
 )
 from sph.engine.opening import opening_circle, passable, sees, wall_hidden
@@ -75,11 +75,14 @@ from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 
 @njit(inline="always", **JIT)
 def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, grx,
-                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta):
+                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s):
     """What particle ``j`` within the support adds to the sums of a fluid particle
     ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
-    as :func:`_sums_general` returns them."""
-    fw = f_r2(r2, kp)
+    as :func:`_sums_general` returns them. ``s``: the pair's smoothing length over the
+    case's (:func:`sph.engine.kernels.pair_scale`; 1 at uniform resolution, where every
+    value is that of ``s = 1`` to the last bit); the viscosity, its regularisation ``eps2``
+    and the diffusive term scale with it as with ``h``."""
+    fw, w = fw_scaled(r2, kp, s)
     rhoj = rho[j]
     vj = m[j] / rhoj
     dvx = vxi - vx[j]
@@ -88,21 +91,22 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
     diff = 0.0
     if kind[j] == FLUID:
         coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
-        coef += visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + eps2)
+        coef += s * visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + s * s * eps2)
         if ddt_rho != 0.0:
             rho_h = -ddt_rho * (gx * dx + gz * dz)
-            diff = -2.0 * vj * fw * (rhoj - rhoi - rho_h)
+            diff = -2.0 * s * vj * fw * (rhoj - rhoi - rho_h)
         elif use_delta:
-            diff = vj * fw * (-2.0 * (rhoj - rhoi) - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
+            diff = s * vj * fw * (-2.0 * (rhoj - rhoi)
+                                  - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
     else:  # a wall pushes and never pulls: fluid tension does not count
         coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
     return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
-            vj * w_given_f(r2, fw, kp))
+            vj * w)
 
 
 @njit(**JIT)
-def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
-                  kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
+def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
+                  ncx, kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
                   start, inner, inner_end):
     """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
     through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
@@ -112,7 +116,8 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
     The candidates are the particle's inner list ``inner[start[i]:inner_end[i]]`` when
     ``listed`` (:class:`sph.engine.neighbours.NeighbourList`: every particle within the
     support, in cell order), else the three rows of cells around it: the same pairs in
-    the same order, so the same sums to the last bit."""
+    the same order, so the same sums to the last bit. Each pair takes its own smoothing
+    length (``hs``: each particle's over the case's, :func:`_pair_general`)."""
     r2max = kp[KP_R2MAX]
     eps2 = 1.0e-4 * kp[KP_H] * kp[KP_H]
     xi = x[i]
@@ -128,7 +133,8 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
     accz = 0.0
     div = 0.0
     diff = 0.0
-    shep = m[i] / rhoi * w_r2(0.0, kp)
+    hsi = hs[i]
+    shep = m[i] / rhoi * w_r2(0.0, kp) / (hsi * hsi)
     c = cell_of[i]
     for seg in range(1 if listed else 3):
         if listed:
@@ -143,13 +149,14 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_st
             dx = xi - x[j]
             dz = zi - z[j]
             r2 = dx * dx + dz * dz
-            if r2 >= r2max or j == i:
+            s = pair_scale(hs, i, j)
+            if r2 >= r2max * s * s or j == i:
                 continue
             if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
                               kind, grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho,
-                              use_delta)
+                              use_delta, s)
             accx += t[0]
             accz += t[1]
             div += t[2]
@@ -193,7 +200,8 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
                 continue
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
-                          p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False)
+                          p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False,
+                          1.0)
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -314,14 +322,16 @@ _sums_wendland_diffusion = _list_sums(wendland=True, diffusion=True)
 
 
 @njit(**JIT_PARALLEL_PAIR)
-def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
+def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, pk, start, inner, inner_end):
+             sx, sz, pk, start, inner, inner_end, variable):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
-    Under the renormalised diffusive term every fluid particle takes every pair rule at
-    every particle of its inner list within the support (:func:`_sums_general`). Otherwise
+    Under the renormalised diffusive term, and under variable resolution (``variable``:
+    the smoothing lengths ``hs`` differ, :mod:`sph.engine.refinement`), every fluid
+    particle takes every pair rule at every particle of its inner list within the
+    support (:func:`_sums_general`). Otherwise
     every fluid particle sums over its inner list
     ``inner[start[i]:inner_end[i]]`` (:class:`sph.engine.neighbours.NeighbourList`) with
     the kernel's own loop (:func:`_list_sums`), in the same order, the pairs of its own
@@ -356,7 +366,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
     n = x.shape[0]
     pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk)
     use_delta = delta_coef != 0.0
-    general = use_delta and ddt_rho == 0.0  # the renormalised term needs grx, grz
+    # the renormalised term needs grx, grz; variable resolution a smoothing length per pair
+    general = (use_delta and ddt_rho == 0.0) or variable
     hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
     hz = -ddt_rho * gz
     gauss = kp[KP_KIND] == 0.0
@@ -366,7 +377,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
             continue
         if general:
             accx, accz, div, diff, shep = _sums_general(
-                i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
+                i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx,
                 kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
                 inner, inner_end)
         else:
@@ -393,14 +404,14 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx
                 div += t[2]
                 diff += t[3]
                 shep += t[4]
-        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 
 
 @njit(**JIT_PARALLEL)
-def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx,
-                       kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op,
-                       kin, shift, sx, sz):
+def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
+                       ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho,
+                       op, kin, shift, sx, sz):
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
@@ -408,23 +419,23 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_
         if kind[i] != FLUID:
             continue
         accx, accz, div, diff, shep = _sums_general(
-            i, x, z, vx, vz, rho, p, m, kind, body, comp, cell_of, cell_start, ncx, kp,
+            i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
             visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
             cell_of, cell_start)
-        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 
 
 @njit(inline="always", **JIT)
-def _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, cell_of,
+def _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
             cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz):
     ax[i] = accx + gx
     az[i] = accz + gz
     drho[i] = rho[i] * div + delta_coef * diff
     if shift[SH_COEF] != 0.0:
         if shep > PACKED:  # the gate of shift_vector is closed below PACKED
-            sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of,
-                                        cell_start, ncx, kp, op, kin, shift)
+            sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs,
+                                        cell_of, cell_start, ncx, kp, op, kin, shift)
         else:
             sx[i] = 0.0
             sz[i] = 0.0

@@ -19,6 +19,14 @@ loop needs no square root for the Gaussian kernel.
 
 The kernel parameters travel to the numba loops as one small float array ``kp``:
 ``kp = [kind, h, alpha_d, R^2, 1/h^2]`` built by :func:`kernel_params`.
+
+Under variable resolution (:mod:`sph.engine.refinement`) every particle has its own smoothing
+length :math:`h_i = s_i h` (``s_i = 2^{-l}`` at refinement level ``l``) and a pair takes the
+mean :math:`h_{ij} = s_{ij} h`, :math:`s_{ij} = (s_i + s_j)/2`, so that :math:`W_{ij} = W_{ji}`
+and the pair forces stay antisymmetric (momentum is conserved). The kernel of smoothing
+length :math:`s h` is that of ``h`` at :math:`r/s`: :math:`W(r; sh) = W(r/s; h)/s^2` and
+:math:`F(r; sh) = F(r/s; h)/s^4` (:func:`w_scaled`, :func:`f_scaled`); at ``s = 1`` they are
+:func:`w_r2` and :func:`f_r2` to the last bit.
 """
 
 from __future__ import annotations
@@ -131,3 +139,34 @@ def f_r2(r2, kp):
     q = math.sqrt(r2 * kp[KP_INV_H2])
     t = 1.0 - 0.5 * q
     return -5.0 * kp[KP_ALPHA] * kp[KP_INV_H2] * t * t * t
+
+
+@njit(inline="always", **JIT)
+def pair_scale(hs, i, j):
+    """Smoothing length of the pair ``(i, j)`` over the case's ``h``: the mean of the
+    particles' own ratios ``hs`` (exact for the powers of two of the refinement levels)."""
+    return 0.5 * (hs[i] + hs[j])
+
+
+@njit(inline="always", **JIT)
+def w_scaled(r2, kp, s):
+    """Kernel value at ``r2`` for the smoothing length ``s h``; zero outside its support."""
+    inv_s2 = 1.0 / (s * s)
+    return w_r2(r2 * inv_s2, kp) * inv_s2
+
+
+@njit(inline="always", **JIT)
+def f_scaled(r2, kp, s):
+    """Gradient factor at ``r2`` for the smoothing length ``s h``; zero outside its support."""
+    inv_s2 = 1.0 / (s * s)
+    return f_r2(r2 * inv_s2, kp) * inv_s2 * inv_s2
+
+
+@njit(inline="always", **JIT)
+def fw_scaled(r2, kp, s):
+    """Gradient factor and kernel value at ``r2`` inside the support of the smoothing
+    length ``s h`` (one exponential for the Gaussian, :func:`w_given_f`)."""
+    inv_s2 = 1.0 / (s * s)
+    r2s = r2 * inv_s2
+    f0 = f_r2(r2s, kp)
+    return f0 * inv_s2 * inv_s2, w_given_f(r2s, f0, kp) * inv_s2

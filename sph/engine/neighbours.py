@@ -16,6 +16,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.kernels import pair_scale
 from sph.engine.particles import FLUID
 
 #: the skin of the Verlet lists (:class:`NeighbourList`) and of the cells, as a fraction of
@@ -135,22 +136,24 @@ class NeighbourList:
         self.inner = np.zeros(0, dtype=self.DTYPE_INDEX)
         self.inner_end = np.zeros(0, dtype=self.DTYPE_START)
 
-    def build(self, x, z, kind, grid: CellGrid, radius: float) -> None:
-        """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it)."""
+    def build(self, x, z, kind, grid: CellGrid, radius: float, hs) -> None:
+        """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it);
+        under variable resolution a pair's radius is ``radius`` times its smoothing length
+        ratio (``hs``, :func:`sph.engine.kernels.pair_scale`)."""
         n = x.shape[0]
         if self.start.shape[0] != n + 1:
             self.start = np.zeros(n + 1, dtype=self.DTYPE_START)
-        _count_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
+        _count_neighbours(x, z, kind, hs, grid.cell_of, grid.cell_start, grid.ncx,
                           radius * radius, self.start)
         total = int(self.start[n])
         if self.index.shape[0] < total:
             self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
-        _fill_neighbours(x, z, kind, grid.cell_of, grid.cell_start, grid.ncx,
+        _fill_neighbours(x, z, kind, hs, grid.cell_of, grid.cell_start, grid.ncx,
                          radius * radius, self.start, self.index)
 
-    def refresh(self, x, z, radius: float) -> None:
-        """The inner lists of radius ``radius`` (at most the radius of :meth:`build`) from
-        the lists, at the positions ``x, z``.
+    def refresh(self, x, z, radius: float, hs) -> None:
+        """The inner lists of radius ``radius`` (at most the radius of :meth:`build`, and
+        scaled per pair in the same way) from the lists, at the positions ``x, z``.
 
         The loops that sum over them may add in an order that depends on where in the
         list a neighbour sits (the compiler may split a sum into partial sums), so a
@@ -161,16 +164,19 @@ class NeighbourList:
             self.inner = np.empty_like(self.index)
         if self.inner_end.shape[0] != n:
             self.inner_end = np.zeros(n, dtype=self.DTYPE_START)
-        _fill_inner(x, z, radius * radius, self.start, self.index, self.inner, self.inner_end)
+        _fill_inner(x, z, hs, radius * radius, self.start, self.index, self.inner,
+                    self.inner_end)
 
 
 @njit(inline="always", **JIT)
-def _listed(i, j, x, z, kind, r2):
-    """True when particle ``j`` belongs in particle ``i``'s list: within ``sqrt(r2)``, and
-    fluid unless ``i`` is fluid (a wall particle lists the fluid only). Branch-free."""
+def _listed(i, j, x, z, kind, hs, r2):
+    """True when particle ``j`` belongs in particle ``i``'s list: within ``sqrt(r2)`` times
+    the pair's smoothing length ratio, and fluid unless ``i`` is fluid (a wall particle
+    lists the fluid only). Branch-free."""
     dx = x[i] - x[j]
     dz = z[i] - z[j]
-    return (dx * dx + dz * dz < r2) & ((kind[i] == FLUID) | (kind[j] == FLUID))
+    s = pair_scale(hs, i, j)
+    return (dx * dx + dz * dz < r2 * s * s) & ((kind[i] == FLUID) | (kind[j] == FLUID))
 
 
 @njit(inline="always", **JIT)
@@ -181,14 +187,14 @@ def _inside(x, z, xmin, xmax, zmin, zmax):
 
 
 @njit(**JIT_PARALLEL)
-def _count_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start):
+def _count_neighbours(x, z, kind, hs, cell_of, cell_start, ncx, r2, start):
     n = x.shape[0]
     for i in prange(n):
         cnt = 0
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                cnt += 1 if _listed(i, j, x, z, kind, r2) else 0
+                cnt += 1 if _listed(i, j, x, z, kind, hs, r2) else 0
         start[i + 1] = cnt
     start[0] = 0
     for i in range(n):
@@ -196,7 +202,7 @@ def _count_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start):
 
 
 @njit(**JIT_PARALLEL)
-def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
+def _fill_neighbours(x, z, kind, hs, cell_of, cell_start, ncx, r2, start, index):
     for i in prange(x.shape[0]):
         if start[i + 1] == start[i]:
             continue
@@ -207,19 +213,20 @@ def _fill_neighbours(x, z, kind, cell_of, cell_start, ncx, r2, start, index):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
                 if k < end:  # the last store of a full list would fall on the next one
                     index[k] = j
-                k += np.uint64(1) if _listed(i, j, x, z, kind, r2) else np.uint64(0)
+                k += np.uint64(1) if _listed(i, j, x, z, kind, hs, r2) else np.uint64(0)
 
 
 @njit(**JIT_PARALLEL)
-def _fill_inner(x, z, r2, start, index, inner, inner_end):
+def _fill_inner(x, z, hs, r2, start, index, inner, inner_end):
     for i in prange(x.shape[0]):
         k = start[i]
         for e in range(start[i], start[i + 1]):
             j = index[e]
             dx = x[i] - x[j]
             dz = z[i] - z[j]
+            s = pair_scale(hs, i, j)
             inner[k] = j  # branch-free: stored always, kept when within reach
-            k += np.uint64(1) if dx * dx + dz * dz < r2 else np.uint64(0)
+            k += np.uint64(1) if dx * dx + dz * dz < r2 * s * s else np.uint64(0)
         inner_end[i] = k
 
 

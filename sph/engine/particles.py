@@ -24,6 +24,8 @@ FLOAT_FIELDS = (
     "bx", "bz",  # wall particles: position in the frame of their body (rest position)
     "x_sort", "z_sort",  # position at the last sort by cell (sph.engine.neighbours)
     "x_inner", "z_inner",  # position at the last refresh of the inner lists (same)
+    "hs",  # smoothing length over the case's h: 1, halved per refinement level
+    # (sph.engine.refinement)
 )
 #: integer fields
 INT_FIELDS = (
@@ -51,6 +53,7 @@ class Particles:
         self._f_buf = np.empty_like(self.f)
         self._i_buf = np.empty_like(self.i)
         self.i[_II["pid"]] = np.arange(n, dtype=np.int32)
+        self.f[_FI["hs"]] = 1.0
 
     @property
     def n(self) -> int:

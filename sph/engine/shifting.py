@@ -44,7 +44,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.kernels import KP_H, KP_R2MAX, f_r2, w_given_f, w_r2
+from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, pair_scale, w_r2
 from sph.engine.opening import sees
 from sph.engine.particles import FLUID
 
@@ -84,19 +84,22 @@ def shifting_active(shift: np.ndarray) -> bool:
 
 
 @njit(**JIT)
-def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, ncx, kp, op,
-                 kin, shift):
+def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
+                 op, kin, shift):
     r"""Shift of fluid particle ``i`` whose kernel sum :math:`\sum_j V_j W_{ij}` (itself
     included) is ``shep``; ``shift = [coef, W(dx), cap]``. Zero unless the particle is
     packed; then the concentration gradient and the divergence of the position are summed
-    over the neighbours the momentum equation sees."""
+    over the neighbours the momentum equation sees. Under variable resolution the pairs take
+    their own smoothing lengths (``hs``, :mod:`sph.engine.refinement`) and the coefficient,
+    :math:`W(\Delta x)` and the cap follow the particle's own spacing."""
     gate = min(max((shep - PACKED) / PACKED_RAMP, 0.0), 1.0)
     if gate == 0.0:
         return 0.0, 0.0
     xi = x[i]
     zi = z[i]
     ci = comp[i]
-    inv_wdx = 1.0 / shift[SH_W_DX]
+    hsi = hs[i]
+    inv_wdx = hsi * hsi / shift[SH_W_DX]  # W(dx_i; h_i) = W(dx; h) / hs_i^2
     r2max = kp[KP_R2MAX]
     gx = 0.0
     gz = 0.0
@@ -107,20 +110,21 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, n
             dx = xi - x[j]
             dz = zi - z[j]
             r2 = dx * dx + dz * dz
-            if r2 >= r2max or j == i:
+            sij = pair_scale(hs, i, j)
+            if r2 >= r2max * sij * sij or j == i:
                 continue
             if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
             vj = m[j] / rho[j]
-            fw = f_r2(r2, kp)
-            q = w_given_f(r2, fw, kp) * inv_wdx
+            fw, w = fw_scaled(r2, kp, sij)
+            q = w * inv_wdx
             q2 = q * q
             vf = vj * fw
             a = vf * (1.0 + R_ANTI * q2 * q2)
             gx += a * dx
             gz += a * dz
             divr -= vf * r2
-    coef = shift[SH_COEF]
+    coef = shift[SH_COEF] * hsi * hsi
     shx = -coef * gate * gx
     shz = -coef * gate * gz
     if divr < SURFACE_DIVR:
@@ -130,7 +134,7 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, cell_of, cell_start, n
             shx -= dot * gx
             shz -= dot * gz
     s = math.sqrt(shx * shx + shz * shz)
-    cap = shift[SH_CAP]
+    cap = shift[SH_CAP] * hsi
     if s > cap:
         shx *= cap / s
         shz *= cap / s

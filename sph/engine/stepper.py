@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sph.engine.config import CaseConfig
+from sph.engine.config import CaseConfig, ConfigError
 from sph.engine.eos import fluid_pressures
 from sph.engine.filters import mls_density, renormalised_density_gradient
 from sph.engine.fluid import interact, pair_work
@@ -40,6 +40,7 @@ from sph.engine.neighbours import (
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
 from sph.engine.probes import point_pressures, surface_heights
+from sph.engine.refinement import level_counts, merge, pack_boxes, split
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
 from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
@@ -91,7 +92,7 @@ class StateMismatch(ValueError):
 
 #: scalar state entries of a stepper: name -> type
 STATE_SCALARS = {"t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
-                 "n_lost": int, "warned_c0": bool}
+                 "n_lost": int, "warned_c0": bool, "n_split": int, "n_merged": int}
 
 
 class Stepper:
@@ -121,9 +122,22 @@ class Stepper:
         #: particle has moved half their thinner skin (INNER_SKIN)
         self.inner_radius = self.scales.support * (1.0 + INNER_SKIN)
         self.grid = CellGrid(*self.setup.bounds, self.list_radius)
+        self.gx, self.gz = 0.0, -fl.gravity
+        #: refinement boxes (:mod:`sph.engine.refinement`); none: uniform resolution
+        self.boxes = pack_boxes(num.refinement)
+        self.variable = len(self.boxes) > 0
+        if self.variable:
+            log.warning("numerics.refinement: variable resolution is experimental; a level "
+                        "boundary is not yet in hydrostatic balance (docs/model.md, "
+                        "'Variable resolution')")
+            self._refine_initial()
+        #: the finest level's smoothing length ratio: the time step and the lists' skins
+        self.hs_min = 2.0 ** -num.max_level
+        #: particles split and groups merged (:mod:`sph.engine.refinement`) so far
+        self.n_split = 0
+        self.n_merged = 0
         self.nlist = NeighbourList()
         self._listed = None  # the particle set the lists were built for
-        self.gx, self.gz = 0.0, -fl.gravity
         self.kin = fixed_kinematics(1 + len(self.setup.motions))
         #: rigid bodies that move under fluid forces (each spans one or more wall groups)
         self.bodies = list(self.setup.bodies)
@@ -178,6 +192,43 @@ class Stepper:
     def b(self) -> float:
         return self.scales.b
 
+    def _refine_initial(self) -> None:
+        """Split the fluid and the fixed walls inside the refinement boxes down to their
+        level; a box must overlap the domain and hold no moving wall."""
+        xmin, xmax, zmin, zmax = self.setup.bounds
+        p = self.parts
+        for k, b in enumerate(self.cfg.numerics.refinement):
+            key = f"numerics.refinement[{k}]"
+            if b.x[1] <= xmin or b.x[0] >= xmax or b.z[1] <= zmin or b.z[0] >= zmax:
+                raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
+                                  f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
+                                  f"[{zmin:g}, {zmax:g}] m")
+            inside = ((p.x >= b.x[0]) & (p.x <= b.x[1]) & (p.z >= b.z[0]) & (p.z <= b.z[1])
+                      & (p.kind != FLUID) & (p.body != 0))
+            if inside.any():
+                raise ConfigError(key, f"the box holds {int(inside.sum())} particles of a "
+                                  "moving wall; a refinement box may hold fluid and fixed "
+                                  "walls only")
+        self.parts, _ = split(p, self.boxes, self.cfg.numerics.dx, self._grad_rho(),
+                              fluid_only=False)
+
+    def _grad_rho(self) -> tuple[float, float]:
+        """The hydrostatic density gradient (rho0 / c0^2) g (:func:`split`)."""
+        k = self.cfg.fluid.rho0 / self.c0**2
+        return k * self.gx, k * self.gz
+
+    def _refine(self) -> None:
+        """Split the fluid particles that entered a finer box, merge those that left theirs
+        (:mod:`sph.engine.refinement`)."""
+        dx = self.cfg.numerics.dx
+        parts, n_split = split(self.parts, self.boxes, dx, self._grad_rho())
+        parts, n_merged = merge(parts, self.boxes, dx)
+        if parts is not self.parts:
+            self.n_split += n_split
+            self.n_merged += n_merged
+            self.parts = parts
+            self._allocate_work()
+
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""
         n = self.parts.n
@@ -205,21 +256,21 @@ class Stepper:
         g = self.grid
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
-        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.gx,
+        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end)
         if self.delta_coef and not self.ddt_rho:
-            renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, g.cell_of,
-                                          g.cell_start, g.ncx, self.kp, self._grx, self._grz,
-                                          self.op, self.kin)
-        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
-                 g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
+            renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, p.hs,
+                                          g.cell_of, g.cell_start, g.ncx, self.kp, self._grx,
+                                          self._grz, self.op, self.kin)
+        interact(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs,
+                 g.cell_of, g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
-                 self.nlist.inner, self.nlist.inner_end)
+                 self.nlist.inner, self.nlist.inner_end, self.variable)
         if self.bodies:
-            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, self.kp, self.kin,
-                        len(self.kin), self._fx, self._fz, self._mom, self._pf,
+            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, self.kp,
+                        self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
                         self.nlist.inner_end)
             for body in self.bodies:
@@ -230,14 +281,18 @@ class Stepper:
         since the last sort, left the domain, or the particle set changed; refresh the inner
         lists when a particle has moved half their skin."""
         p, g, nl = self.parts, self.grid, self.nlist
-        half_skin = 0.5 * (self.list_radius - self.scales.support)
+        # the skins of the finest pairs are the thinnest (lists scale with the pair's h)
+        half_skin = 0.5 * (self.list_radius - self.scales.support) * self.hs_min
         if self._listed is p and not moved_or_outside(p.x, p.z, p.x_sort, p.z_sort,
                                                       half_skin * half_skin, *g.bounds):
-            half_inner = 0.5 * (self.inner_radius - self.scales.support)
+            half_inner = 0.5 * (self.inner_radius - self.scales.support) * self.hs_min
             if moved_or_outside(p.x, p.z, p.x_inner, p.z_inner, half_inner * half_inner,
                                 *g.bounds):
                 self._refresh_inner()
             return
+        if self.variable:
+            self._refine()
+            p = self.parts
         if g.sort(p.x, p.z):
             self._exclude()
             p = self.parts
@@ -245,7 +300,7 @@ class Stepper:
         p.permute(g.order)
         p.x_sort[:] = p.x
         p.z_sort[:] = p.z
-        nl.build(p.x, p.z, p.kind, g, self.list_radius)
+        nl.build(p.x, p.z, p.kind, g, self.list_radius, p.hs)
         self._refresh_inner()
         self._listed = p
 
@@ -253,7 +308,7 @@ class Stepper:
         p = self.parts
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
-        self.nlist.refresh(p.x, p.z, self.inner_radius)
+        self.nlist.refresh(p.x, p.z, self.inner_radius, p.hs)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -289,7 +344,7 @@ class Stepper:
         """One time step (derivatives at the current level must be up to date)."""
         p, num = self.parts, self.cfg.numerics
         vmax, amax = max_speed_accel(p.vx, p.vz, p.ax, p.az, p.kind)
-        self.dt = time_step(num.cfl, self.h, self.c0, num.alpha, vmax, amax)
+        self.dt = time_step(num.cfl, self.h * self.hs_min, self.c0, num.alpha, vmax, amax)
         if not self.warned_c0 and 10.0 * vmax > self.c0:
             self.warned_c0 = True
             log.warning("t = %.4g s: max velocity %.3g m/s exceeds c0/10 = %.3g m/s; "
@@ -300,8 +355,8 @@ class Stepper:
         euler = mls_due or s % num.euler_interval == 0 or self.step == 0
         g = self.grid
         if mls_due:
-            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, g.cell_of, g.cell_start,
-                        g.ncx, self.kp, self._rho_buf, self.op, self.kin)
+            mls_density(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, p.hs, g.cell_of,
+                        g.cell_start, g.ncx, self.kp, self._rho_buf, self.op, self.kin)
             p.rho[:] = self._rho_buf
         verlet_update(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.ax, p.az,
                       p.drho, p.kind, self.dt, euler, self.setup.absorber)
@@ -350,6 +405,9 @@ class Stepper:
             "density_min": float(rho.min()),
             "density_max": float(rho.max()),
         }
+        if self.variable:
+            values["fluid_mass"] = float(np.sum(m))
+            values["n_particles_level"] = level_counts(p, self.cfg.numerics.max_level)
         if self.bodies:
             values.update(self.bodies[0].motions())
             forces = np.array([b.force for b in self.bodies])
@@ -443,6 +501,7 @@ class Stepper:
         n_out = self.grid.sort(parts.x_sort, parts.z_sort)
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
-        self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius)
-        self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius)
+        self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius,
+                         parts.hs)
+        self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, parts.hs)
         self._listed = parts

@@ -28,7 +28,7 @@ from numba import prange
 
 from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.kernels import KP_R2MAX, f_r2, w_r2
+from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
 from sph.engine.particles import WALL
 
@@ -69,29 +69,32 @@ def _sees_opening(i, b, x, z, op, support):
 
 
 @njit(inline="always", **JIT)
-def _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin):
+def _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max, op, kin):
     """Whether fluid particle ``j`` of a wall particle's list counts for the wall particle
-    at ``(xi, zi)`` (compartment ``ci``, group ``b``): within the support, of the same
+    ``i`` at ``(xi, zi)`` (compartment ``ci``, group ``b``): within the support of the
+    pair's smoothing length (:func:`sph.engine.kernels.pair_scale`), of the same
     compartment, and, when ``hide`` (:func:`_sees_opening`), not hidden by the opening.
-    Returns it with the pair's ``dx, dz, r2``."""
+    Returns it with the pair's ``dx, dz, r2`` and smoothing length ratio ``s``."""
     dx = xi - x[j]
     dz = zi - z[j]
     r2 = dx * dx + dz * dz
-    ok = r2 < r2max and comp[j] == ci and not (
+    s = pair_scale(hs, i, j)
+    ok = r2 < r2max * s * s and comp[j] == ci and not (
         hide and wall_hidden(x[j], z[j], xi, zi, b, op, kin))
-    return ok, dx, dz, r2
+    return ok, dx, dz, r2, s
 
 
 @njit(**JIT_PARALLEL)
-def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_coef, gamma,
-                  vol0, op, start, inner, inner_end):
+def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, b_coef,
+                  gamma, vol0, op, start, inner, inner_end):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
-    A wall particle keeps its volume ``vol0`` (= dx^2; walls are rigid), so its mass follows
-    its density: ``m = rho vol0``. Fluid seen through an open damage opening ``op`` does not
-    count (:func:`sph.engine.opening.wall_hidden`). The pressure is clamped at zero: a wall in
-    tension would attract the fluid through itself. The fluid neighbours come from the
-    wall particle's inner list ``inner[start[i]:inner_end[i]]``
+    A wall particle keeps its volume ``vol0 hs^2`` (= dx^2 at its refinement level; walls
+    are rigid), so its mass follows its density: ``m = rho vol0 hs^2``. Fluid seen through
+    an open damage opening ``op`` does not count (:func:`sph.engine.opening.wall_hidden`).
+    The pressure is clamped at zero: a wall in tension would attract the fluid through
+    itself. The fluid neighbours come from the wall particle's inner list
+    ``inner[start[i]:inner_end[i]]``
     (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
     the damaged hull's wall particles within reach of an open opening."""
     n = x.shape[0]
@@ -117,22 +120,23 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, kp, gx, gz, kin, rho0, b_co
         hide = _sees_opening(i, b, xi, zi, op, support)
         for k in range(start[i], inner_end[i]):
             j = inner[k]
-            ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
+            ok, dx, dz, r2, s = _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max,
+                                            op, kin)
             if not ok:
                 continue
-            w = w_r2(r2, kp) * m[j] / rho[j]
+            w = w_scaled(r2, kp, s) * m[j] / rho[j]
             sw += w
             sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
         # a wall in tension would pull fluid through itself (a vortex core reaching a wall
         # takes negative pressure with it); walls push, they do not pull
         p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
-        m[i] = rho[i] * vol0
+        m[i] = rho[i] * vol0 * hs[i] * hs[i]
 
 
 @njit(**JIT_PARALLEL)
-def wall_forces(x, z, rho, p, m, kind, body, comp, kp, kin, n_body, fx, fz, mom, pf, scale,
-                op, start, inner, inner_end):
+def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, mom, pf,
+                scale, op, start, inner, inner_end):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -159,11 +163,12 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, kp, kin, n_body, fx, fz, mom,
         hide = _sees_opening(i, b, xi, zi, op, support)
         for k in range(start[i], inner_end[i]):
             j = inner[k]
-            ok, dx, dz, r2 = _fluid_seen(j, xi, zi, ci, b, hide, x, z, comp, r2max, op, kin)
+            ok, dx, dz, r2, s = _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max,
+                                            op, kin)
             if not ok:
                 continue
             # as in the momentum equation, fluid tension does not pull on a wall
-            fw = f_r2(r2, kp) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+            fw = f_scaled(r2, kp, s) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
             sx += fw * dx
             sz += fw * dz
         vi *= scale[ci]

@@ -52,7 +52,7 @@ def _derivatives(fn, sim, delta, ddt, shifting, extra=()):
     rng = np.random.default_rng(3)
     grx, grz = rng.normal(0, 20.0, n), rng.normal(0, 20.0, n)
     shift = shift_params(shifting, 0.2, 10.0, sim.kp, sim.cfg.numerics.dx)
-    fn(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, g.cell_of,
+    fn(p.x, p.z, p.vx, p.vz, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, g.cell_of,
        g.cell_start, g.ncx, sim.kp, sim.visc_coef, sim.gx, sim.gz, delta * sim.h * sim.c0,
        (1000.0 / sim.c0**2) if ddt else 0.0, grx, grz, *out[:3], sim.op, sim.kin, shift,
        *out[3:], *extra)
@@ -68,7 +68,7 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
     assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
     got = _derivatives(interact, ship, delta, ddt, shifting,
                       (pair_work(p.n), ship.nlist.start, ship.nlist.inner,
-                       ship.nlist.inner_end))
+                       ship.nlist.inner_end, False))
     want = _derivatives(interact_reference, ship, delta, ddt, shifting)
     for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want, strict=True):
         scale = np.abs(b[fluid]).max()
@@ -84,9 +84,9 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     p = ship.parts
     fl = ship.cfg.fluid
     rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
-    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, ship.kp, ship.gx, ship.gz,
-                  ship.kin, fl.rho0, ship.b, fl.gamma, ship.cfg.numerics.dx**2, ship.op,
-                  ship.nlist.start, ship.nlist.inner, ship.nlist.inner_end)
+    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, p.hs, ship.kp, ship.gx,
+                  ship.gz, ship.kin, fl.rho0, ship.b, fl.gamma, ship.cfg.numerics.dx**2,
+                  ship.op, ship.nlist.start, ship.nlist.inner, ship.nlist.inner_end)
     fluid = np.nonzero(p.kind == FLUID)[0]
     r2max = ship.kp[3]
     hidden_seen = 0
@@ -122,8 +122,8 @@ def test_wall_forces_match_a_sum_over_all_particles(ship):
     fx, fz, mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
     pf = np.zeros((p.n, 3))
     scale = np.ones(int(p.comp.max()) + 1)
-    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, ship.kp, ship.kin, nb, fx,
-                fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.inner,
+    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, ship.kp, ship.kin, nb,
+                fx, fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.inner,
                 ship.nlist.inner_end)
     fluid = np.nonzero(p.kind == FLUID)[0]
     hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]

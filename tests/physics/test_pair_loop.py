@@ -158,10 +158,10 @@ def _interact(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
     n = len(st["x"])
     out = {k: np.zeros(n) for k in ("ax", "az", "drho", "sx", "sz")}
     interact(st["x"], st["z"], st["vx"], st["vz"], st["rho"], st["p"], st["m"], st["kind"],
-             st["body"], st["comp"], grid.cell_of, grid.cell_start, grid.ncx, kp, visc, gx, gz,
-             delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"], out["drho"], op, kin,
-             shift, out["sx"], out["sz"], pair_work(n), *verlet_lists(st["x"], st["z"],
-                                                                     st["kind"], grid))
+             st["body"], st["comp"], np.ones(n), grid.cell_of, grid.cell_start, grid.ncx, kp,
+             visc, gx, gz, delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"],
+             out["drho"], op, kin, shift, out["sx"], out["sz"], pair_work(n),
+             *verlet_lists(st["x"], st["z"], st["kind"], grid), False)
     return out
 
 
