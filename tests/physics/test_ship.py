@@ -33,9 +33,11 @@ HULL = builtin("damaged_ship").geometry.hull
 
 
 def _keel_coords(sim, group):
+    """Keel-frame coordinates of every particle relative to the hull of wall group
+    ``group``, whose body's reference point is the dry part's centre of gravity."""
     p = sim.parts
     kin = sim.kin[group]
-    u, w = _to_keel(np.column_stack([p.x, p.z]), HULL.kg, kin[:2], kin[2])
+    u, w = _to_keel(np.column_stack([p.x, p.z]), sim.setup.attrs["dry_kg"], kin[:2], kin[2])
     return u, w
 
 
