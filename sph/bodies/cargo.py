@@ -36,8 +36,8 @@ Refused (:func:`check_mass_properties`): a dry part lighter than :data:`MIN_DRY_
 the displacement (an explicitly coupled body much lighter than the liquid it carries is
 ill-conditioned, and a ship is never almost all cargo), a dry part with no roll inertia, and
 a dry part whose centre of gravity lies outside the hull. With the paper's ship, water fills
-25 and 50 % with room to spare, but at 75 % water outweighs the displacement at d (by 0.5 %):
-the densest cargo that keeps the dry part at 5 % of the displacement is 890 kg/m3.
+25 and 50 %, but at 75 % water outweighs the displacement at d (by 0.5 %), and the densest
+cargo that leaves a dry part at all (917 kg/m3) leaves it no roll inertia.
 
 **Free-surface effect** (e.g. Biran and López-Pulido 2014, *Ship Hydrostatics and
 Stability*, Sec. 6.8): when the ship heels slowly the cargo's surface stays level and its
