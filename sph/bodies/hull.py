@@ -48,6 +48,11 @@ class HullConfig:
                      doc="height of the centre of gravity above the keel")
     gyradius: float = spec(lo=0.0, lo_open=True, hi=1.0e3, unit="m",
                            doc="roll radius of gyration about the centre of gravity")
+    mass_properties: str = spec(
+        choices=("loaded", "dry"),
+        doc="what kg and gyradius describe (sph.bodies.cargo): loaded, the whole ship with "
+            "its cargo frozen (mass: the displacement at d); dry, the hull, structure and "
+            "ballast without the cargo (mass: the displacement minus the cargo)")
 
     def check(self, key):
         if self.draught >= self.depth:
@@ -188,6 +193,33 @@ def _area_centroid(poly: np.ndarray) -> tuple[float, float, float]:
     cu = ((u + u1) * cross).sum() / (6.0 * area)
     cw = ((w + w1) * cross).sum() / (6.0 * area)
     return abs(area), cu, cw
+
+
+def _second_moments(poly: np.ndarray) -> tuple[float, float]:
+    """Second moments of area of a closed polygon about its centroid,
+    :math:`\\int (u - u_c)^2\\,dA` and :math:`\\int (w - w_c)^2\\,dA` (the shoelace
+    sums of the moments about the origin, moved to the centroid by the parallel-axis
+    theorem)."""
+    area, cu, cw = _area_centroid(poly)
+    if area == 0.0:
+        return 0.0, 0.0
+    u, w = poly[:, 0], poly[:, 1]
+    u1, w1 = np.roll(u, -1), np.roll(w, -1)
+    cross = u * w1 - u1 * w
+    sign = 1.0 if cross.sum() > 0.0 else -1.0
+    juu = sign * ((u * u + u * u1 + u1 * u1) * cross).sum() / 12.0 - area * cu * cu
+    jww = sign * ((w * w + w * w1 + w1 * w1) * cross).sum() / 12.0 - area * cw * cw
+    return float(juu), float(jww)
+
+
+def submerged_moments(hull: HullConfig, level: float, offset: float = 0.0):
+    """Area (m2), centroid height ``w`` (m) and polar second moment of area about the
+    centroid :math:`\\int (u - u_c)^2 + (w - w_c)^2\\,dA` (m4) of the outline moved
+    ``offset`` inwards, below ``w = level`` (upright section)."""
+    poly = _clip_below(_section_polygon(hull, offset), level)
+    area, _, cw = _area_centroid(poly)
+    juu, jww = _second_moments(poly)
+    return area, cw, juu + jww
 
 
 def submerged(hull: HullConfig, level: float, offset: float = 0.0):

@@ -7,11 +7,13 @@ roll). By symmetry two segments suffice: an intact cabin standing for two cabins
 the side opening appears at ``t1``). The segments' tanks lie side by side along x, ``pitch``
 metres apart, and their compartments are numbered ``2 s`` (sea) and ``2 s + 1`` (cabin).
 
-The ship's mass is the displacement at draught d; the cargo's mass is taken from the hull's
-own, whose centre of gravity height ``kg`` and radius of gyration ``gyradius``
-are case values. A cargo lighter than the sea water (``cargo_density``) is simulated as
-water whose force on the hull is scaled by ``cargo_density / rho0`` (in a single liquid
-the flow does not depend on its density).
+The ship's mass is the displacement at draught d at every fill; the rigid body is the dry
+part (hull, structure, ballast), the cargo is fluid. ``kg`` and ``gyradius`` describe the
+loaded ship with its cargo frozen or the dry part alone (``hull.mass_properties``,
+:mod:`sph.bodies.cargo`); the dry part's mass, centre of gravity and inertia follow, and the
+body's reference point is the dry part's centre of gravity. A cargo of density
+``cargo_density`` is simulated as water whose force on the hull is scaled by
+``cargo_density / rho0`` (in a single liquid the flow does not depend on its density).
 
 Cases: ``damaged_ship`` (the Table I runs) and ``ship_decay`` (one intact segment in still
 water, released with a heel or a heave offset).
@@ -25,6 +27,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sph.bodies.cargo import (
+    MassProperties,
+    cargo_section,
+    cargo_section_of_particles,
+    check_mass_properties,
+)
 from sph.bodies.damage import DamageOpening, HullGuard, fluid_volume
 from sph.bodies.hull import (
     HullConfig,
@@ -110,12 +118,17 @@ def _segments(g) -> list[dict]:
     return segs
 
 
-def _masses(cfg: CaseConfig, cargo_area: float) -> dict:
+def masses(cfg: CaseConfig, cargo=None) -> MassProperties:
+    """Mass properties of the dry part, the cargo and the loaded ship per unit length of
+    ship (:mod:`sph.bodies.cargo`), for the cargo ``cargo`` (a
+    :class:`~sph.bodies.cargo.CargoSection`; default: the exact section at the case's
+    fill); a :class:`~sph.schema.ConfigError` if the dry part is not possible."""
     g = cfg.geometry
-    hs = hydrostatics(g.hull, cfg.fluid.rho0, cfg.fluid.gravity)
-    w_intact = _segments(g)[0]["weight"]
-    cargo = g.cargo_density * cargo_area * w_intact  # per unit length of ship
-    return dict(displacement=hs["mass"], cargo=cargo, hull=hs["mass"] - cargo, gm=hs["gm"])
+    if cargo is None:
+        cargo = cargo_section(g.hull, g.fill)
+    weight = _segments(g)[0]["weight"]
+    return check_mass_properties(g.hull, cfg.fluid.rho0, cfg.fluid.gravity, weight,
+                                 g.cargo_density, g.fill, cargo)
 
 
 def cargo_area(hull: HullConfig, fill: float) -> float:
@@ -177,22 +190,17 @@ def check(cfg: CaseConfig) -> None:
                           f"is below one particle spacing ({dx:g} m); use 0 or a larger fill")
     if g.fill * hull.depth >= hull.depth - 2 * hull.plating:
         raise ConfigError("geometry.fill", f"must leave room below the deck; got {g.fill:g}")
-    m = _masses(cfg, cargo_area(hull, g.fill))
-    if m["hull"] <= 0.05 * m["displacement"]:
-        raise ConfigError("geometry.fill", f"the cargo ({m['cargo']:.4g} kg/m per unit ship "
-                          f"length at fill {g.fill:g}, density {g.cargo_density:g}) leaves "
-                          f"the hull less than 5 % of the displacement "
-                          f"({m['displacement']:.4g} kg/m) at draught {hull.draught:g} m; "
-                          f"lower geometry.fill or geometry.cargo_density")
+    masses(cfg)
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
 
 
 # ------------------------------------------------------------------------------ set-up
-def _pose(g, x_offset: float):
-    """Initial centre of gravity (earth) and angle (counter-clockwise) of a segment."""
+def _pose(g, x_offset: float, kg: float):
+    """Initial centre of gravity (earth) and angle (counter-clockwise) of a segment whose
+    body's centre of gravity is ``kg`` above the keel."""
     hull = g.hull
-    cog = np.array([g.ship_x + x_offset, g.depth - hull.draught + hull.kg + g.heave_offset])
+    cog = np.array([g.ship_x + x_offset, g.depth - hull.draught + kg + g.heave_offset])
     return cog, -math.radians(g.heel)
 
 
@@ -221,7 +229,7 @@ def _opening_pids(hull, shell_uw, side, z0, z1, pids):
     return pids[in_open[nearest]]
 
 
-def _opening_circle(hull, side, z0, z1, reach):
+def _opening_circle(hull, side, z0, z1, reach, kg):
     """Centre (hull frame: ``u``, ``w - kg``) and squared reach of a circle holding the
     opening's part of the mid-surface, widened by ``reach`` (the kernel support) and a
     margin for the bisection's tolerance (:func:`sph.engine.opening.crosses_opening`)."""
@@ -231,10 +239,10 @@ def _opening_circle(hull, side, z0, z1, reach):
     lo, hi = span.min(axis=0), span.max(axis=0)
     centre = 0.5 * (lo + hi)
     radius = 0.5 * float(np.hypot(*(hi - lo))) + 2.0 * spacing
-    return centre[0], centre[1] - hull.kg, (radius + 1.05 * reach) ** 2
+    return centre[0], centre[1] - kg, (radius + 1.05 * reach) ** 2
 
 
-def _sea_columns(g, dx, xs, cog, theta, outer):
+def _sea_columns(g, dx, xs, cog, theta, outer, kg):
     """Sea particles of one segment's tank: the lattice columns ``xs`` of the tank, each
     filled from the tank bottom to the still level or to the hull bottom above it; returns
     points and volumes."""
@@ -246,7 +254,7 @@ def _sea_columns(g, dx, xs, cog, theta, outer):
         under = False
         if abs(xc - cog[0]) < hull.breadth:
             col = np.column_stack([np.full_like(fine, xc), fine])
-            d = sdf_many(*_to_keel(col, hull.kg, cog, theta), outer)
+            d = sdf_many(*_to_keel(col, kg, cog, theta), outer)
             inside = np.nonzero(d < 0.0)[0]
             if len(inside):
                 k = inside[0]
@@ -259,7 +267,7 @@ def _sea_columns(g, dx, xs, cog, theta, outer):
         col = np.column_stack([np.full_like(zs, xc), zs])
         # beside the hull keep half a spacing of clearance; under it the column already
         # ends half a (vertical) spacing below the plating
-        d = sdf_many(*_to_keel(col, hull.kg, cog, theta), outer)
+        d = sdf_many(*_to_keel(col, kg, cog, theta), outer)
         keep = d >= (0.25 if under else 0.5) * dx * 0.999
         pts.append(col[keep])
         vols.append(np.full(keep.sum(), dx * dz))
@@ -312,16 +320,25 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     z1 = hull.plating + g.damage.opening * hull.draught
     shell_uw, shell_inner = shell_particles(hull, dx, layers)
 
+    # the cargo as placed (keel frame) fixes the dry part's mass, centre of gravity and
+    # inertia (sph.bodies.cargo), and so the body's reference point, kg above the keel
+    if segs[0]["cargo"]:
+        cl, c_vol, level = _cargo_columns(hull, g.fill, dx, inner_s)
+        m = masses(cfg, cargo_section_of_particles(hull, g.fill, cl[:, 0], cl[:, 1], c_vol))
+    else:
+        m = masses(cfg)
+    kg = m.dry_kg
+
     fluid_xz, fluid_comp, fluid_surf, fluid_vol = [], [], [], []
     wall_xz, wall_body_xz, wall_group, wall_comp, wall_tag = [], [], [], [], []
-    cargo_masses = []
     for s, seg in enumerate(segs):
         x_off = s * pitch
-        cog, theta = _pose(g, x_off)
+        cog, theta = _pose(g, x_off, kg)
         pts, inside, wall_mask, group = flap_tank_lattice(dx, layers, g.tank_length,
                                                           g.tank_height)
         pts = pts + np.array([x_off, 0.0])
-        sea, sea_vol = _sea_columns(g, dx, np.unique(pts[inside, 0]), cog, theta, outer)
+        sea, sea_vol = _sea_columns(g, dx, np.unique(pts[inside, 0]), cog, theta, outer,
+                                     kg)
         fluid_xz.append(sea)
         fluid_vol.append(sea_vol)
         fluid_comp.append(np.full(len(sea), 2 * s, np.int32))
@@ -333,22 +350,18 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         wall_comp.append(np.full(len(walls), 2 * s, np.int32))
         wall_tag.append(np.zeros(len(walls), np.int32))
         # hull plating: outer-face layers face the sea, inner-face layers the cabin
-        body_xz, earth = _to_earth(shell_uw, hull.kg, cog, theta)
+        body_xz, earth = _to_earth(shell_uw, kg, cog, theta)
         wall_xz.append(earth)
         wall_body_xz.append(body_xz)
         wall_group.append(np.full(len(earth), 1 + n_seg + s, np.int32))
         wall_comp.append(np.where(shell_inner, 2 * s + 1, 2 * s).astype(np.int32))
         wall_tag.append(np.full(len(earth), 1 + s, np.int32))  # hull of segment s (local tag)
-        cargo_n = 0
         if seg["cargo"]:
-            cl, c_vol, level = _cargo_columns(hull, g.fill, dx, inner_s)
-            _, earth = _to_earth(cl, hull.kg, cog, theta)
+            _, earth = _to_earth(cl, kg, cog, theta)
             fluid_xz.append(earth)
             fluid_vol.append(c_vol)
             fluid_comp.append(np.full(len(cl), 2 * s + 1, np.int32))
             fluid_surf.append(earth[:, 1] + (level - cl[:, 1]) * math.cos(theta))
-            cargo_n = len(cl)
-        cargo_masses.append(cargo_n)
 
     fluid_xz = np.concatenate(fluid_xz)
     wall_xz = np.concatenate(wall_xz)
@@ -361,15 +374,9 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     parts.comp[:nf] = np.concatenate(fluid_comp)
     parts.comp[nf:] = np.concatenate(wall_comp)
 
-    # cargo actually placed (its particle masses) and the hull's share of the displacement
-    cargo_area_sph = 0.0
-    if segs[0]["cargo"]:
-        sel = parts.comp[:nf] == 1
-        cargo_area_sph = float(np.sum(parts.m[:nf][sel] / parts.rho[:nf][sel]))
-    m = _masses(cfg, cargo_area_sph)
-    inertia = m["hull"] * hull.gyradius**2
-    cog0, theta0 = _pose(g, 0.0)
-    body = RigidBody(m["hull"], inertia, cog0, g.dofs, cfg.fluid.gravity,
+    # the dry part: the rigid body (the cargo is fluid)
+    cog0, theta0 = _pose(g, 0.0, kg)
+    body = RigidBody(m.dry, m.dry_inertia, cog0, g.dofs, cfg.fluid.gravity,
                      segments=[(1 + n_seg + s, seg["weight"], s * pitch)
                                for s, seg in enumerate(segs)])
     body.q[2] = theta0
@@ -390,12 +397,13 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     for s in range(n_seg):
         hull_params.append(pack_opening(
             sea=2 * s, cabin=2 * s + 1, group=1 + n_seg + s, side=side, w_low=z0, w_high=z1,
-            shape=mid_shape(hull), kg=hull.kg, reach=sc.support, margin=0.5 * dx))
+            shape=mid_shape(hull), kg=kg, reach=sc.support, margin=0.5 * dx))
     if d_seg is not None:
         pid_hull = np.arange(nf, parts.n)[(wall_tag == 1 + d_seg)]
         shell_of_seg = shell_uw  # same layout in every segment
         in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
-        set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, sc.support))
+        set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, sc.support,
+                                                                kg))
         opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
@@ -421,7 +429,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
             if not np.any(p.kind[sel] == FLUID):
                 return 0.0
             xz = np.column_stack([p.x[sel], p.z[sel]])
-            u, w = _to_keel(xz, hull.kg, kin[:2], kin[2])
+            u, w = _to_keel(xz, kg, kin[:2], kin[2])
             out = surface_heights(u, w, p.m[sel], p.rho[sel], p.kind[sel], p.comp[sel], -1,
                                   np.array([u_probe]), kp, hull.plating, 0.1 * dx,
                                   True)[0]
@@ -442,13 +450,17 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     attrs = dict(depth=g.depth, tank_length=g.tank_length, ship_x=g.ship_x,
                  breadth=hull.breadth, hull_depth=hull.depth, draught=hull.draught,
                  bilge_radius=hull.bilge_radius, plating=hull.plating, kg=hull.kg,
-                 gyradius=hull.gyradius, gm=hs["gm"], kb=hs["kb"], bm=hs["bm"],
+                 gyradius=hull.gyradius, mass_properties=hull.mass_properties,
+                 gm=m.gm, gm_fluid=m.gm_fluid, free_surface=m.free_surface, kb=hs["kb"],
+                 bm=hs["bm"],
                  opening=g.damage.opening if g.damaged_cabins else 0.0,
                  side=g.damage.side, fill=g.fill, cargo_density=g.cargo_density,
                  damage_time=g.damage.time_periods * period, wave_period=period,
                  theta0=flap.theta0, omega=omega, wave_amplitude=_amplitude(flap, g, cfg),
-                 displacement=m["displacement"], hull_mass=m["hull"], cargo_mass=m["cargo"],
-                 roll_inertia=inertia, cabin_area=v_cabin, segments=n_seg,
+                 displacement=m.displacement, dry_mass=m.dry, dry_kg=m.dry_kg,
+                 roll_inertia=m.dry_inertia, cargo_mass=m.cargo, cargo_kg=m.cargo_kg,
+                 ship_kg=m.ship_kg, ship_roll_inertia=m.ship_inertia, cabin_area=v_cabin,
+                 segments=n_seg,
                  segment_weights=" ".join(f"{seg['weight']:.6g}" for seg in segs),
                  segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
                  opening_wall_particles=len(opening.opening_pids) if opening else 0)

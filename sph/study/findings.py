@@ -67,6 +67,9 @@ DISTINCT_FREQUENCY = 0.01
 FLUCTUATION_BAND = (0.05, 0.20)
 #: "slightly larger" means a ratio inside this band
 SLIGHTLY_LARGER = (1.0, 1.25)
+#: the density taken for the paper's liquid cargo (kg/m3): its SPH model has one fluid, of
+#: reference density 1000 kg/m3, and names no other (Sec. II, IV D)
+PAPER_CARGO_DENSITY = 1000.0
 #: "the same" heave equilibrium: mean heaves after t2 spread by at most this fraction of the
 #: largest sinkage (the spread of the mean over a window of a few periods at coarse dx)
 SAME_EQUILIBRIUM = 0.10
@@ -232,6 +235,10 @@ def case_label(case: Mapping) -> str:
         minus = "-" if case["side"] == "head" else ""
         base = f"δ̄{minus} = {fraction_text(case['opening'])}"
     label = f"{base}, η = {100 * case['fill']:g} %"
+    density = case.get("cargo_density")
+    if case["fill"] > 0.0 and density is not None and np.isfinite(density) \
+            and abs(density - PAPER_CARGO_DENSITY) > 1e-9:
+        label += f" ({density:g} kg/m³ cargo)"
     amp = float(case.get("amplitude", DEFAULT_AMPLITUDE))
     if amp == 0.0:
         label += ", still water"
@@ -256,6 +263,9 @@ class _Sweep:
                       for c, o, s, f, a in zip(ds["case"].values, ds["opening"].values,
                                                ds["side"].values, ds["fill"].values,
                                                ds["amplitude"].values, strict=True)}
+        if "cargo_density" in ds.coords:
+            for c, rho in zip(ds["case"].values, ds["cargo_density"].values, strict=True):
+                self.cases[str(c)]["cargo_density"] = float(rho)
 
     def series(self, case: str, name: str, probe: str | None = None) -> np.ndarray:
         v = self.ds[name].sel(case=case)
@@ -765,6 +775,25 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
             values, measured = f.measure(s, cases)
             out.append(_judged(f.id, f.statement, f.paper, measured, f.test(values, s),
                                values.values()))
+    return out
+
+
+def departures(ds) -> list[str]:
+    """The runs of a sweep dataset that differ from the paper in a value it does not state:
+    a cargo other than water (:data:`PAPER_CARGO_DENSITY`; coordinate ``cargo_density``),
+    one line per run."""
+    if "cargo_density" not in ds.coords:
+        return []
+    out = []
+    for c, o, side, f, a, rho in zip(ds["case"].values, ds["opening"].values,
+                                     ds["side"].values, ds["fill"].values,
+                                     ds["amplitude"].values, ds["cargo_density"].values,
+                                     strict=True):
+        if f > 0.0 and abs(float(rho) - PAPER_CARGO_DENSITY) > 1e-9:
+            label = case_label(dict(opening=float(o), side=str(side), fill=float(f),
+                                    amplitude=float(a)))
+            out.append(f"{c} ({label}): cargo of {float(rho):g} kg/m³, where the paper's "
+                       f"one fluid is water (it gives no cargo density)")
     return out
 
 

@@ -26,8 +26,9 @@ what it names):
 Case table columns: ``case`` (an explicit id, used in file names), ``opening`` (delta_bar =
 delta / d; 0 = intact), ``side`` (``back`` or ``head``), ``fill`` (eta, in [0, 1)), and
 optionally ``amplitude`` (incident wave amplitude over draught, A / d; 0 = still water; default
-the wave of the ``damaged_ship`` case, 2.0 m / 4.2 m = 10/21) and ``description``. Numbers may
-be written as fractions (``10/21``).
+the wave of the ``damaged_ship`` case, 2.0 m / 4.2 m = 10/21), ``cargo_density`` (kg/m3 of the
+cargo; empty: the sweep's ``set`` value of ``geometry.cargo_density``, else the case's 1000)
+and ``description``. Numbers may be written as fractions (``10/21``).
 
 The defaults of the ship (draught, opening, side, fill, wave) are those of the built-in case,
 read from ``sph/cases/damaged_ship.yaml`` (:func:`sph.cases.load_defaults`); the validation
@@ -57,7 +58,8 @@ SIDES = ("back", "head")
 #: validation targets the workflow knows (:data:`sph.study.validation.TARGETS`)
 VALIDATION_TARGETS = tuple(TARGETS)
 #: columns of a case table
-CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "description")
+CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "cargo_density",
+                "description")
 #: the geometry defaults of the ``damaged_ship`` case (sph/cases/damaged_ship.yaml)
 SHIP_DEFAULTS = load_defaults("damaged_ship")["geometry"]
 #: the ship's draught d (m)
@@ -169,7 +171,9 @@ def check_cases(rows: Any) -> list[dict]:
 
     Checks: a non-empty list of mappings; only the known columns; an explicit, unique,
     file-name-safe ``case`` id; ``opening`` in [0, 1); ``side`` back or head; ``fill`` in
-    [0, 1); ``amplitude`` in [0, 2]. Each error names the row's key (``cases[k].column``).
+    [0, 1); ``amplitude`` in [0, 2]; ``cargo_density`` in [1, 1e5] kg/m3 or empty (None).
+    Each error names the row's key (``cases[k].column``); whether the cargo fits the ship
+    is the engine's check of each run's case file (:func:`check_case_document`).
     """
     if not isinstance(rows, list) or not rows:
         raise ConfigError("cases", "expected a non-empty list of cases (or the path of a case "
@@ -204,9 +208,17 @@ def check_cases(rows: Any) -> list[dict]:
             fill=_in_range(parse_number(row["fill"], f"{key}.fill"), f"{key}.fill", 0.0, 1.0,
                            hi_open=True),
             amplitude=_in_range(amp, f"{key}.amplitude", 0.0, 2.0),
+            cargo_density=_cargo_density(row.get("cargo_density"), f"{key}.cargo_density"),
             description=str(row.get("description") or ""),
         ))
     return out
+
+
+def _cargo_density(value: Any, key: str) -> float | None:
+    """The optional ``cargo_density`` column: kg/m3 in the engine's range, or None."""
+    if value is None or (isinstance(value, str) and not value.strip()):
+        return None
+    return _in_range(parse_number(value, key), key, 1.0, 1.0e5)
 
 
 # ------------------------------------------------------------------------------ presets
@@ -333,6 +345,13 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
     if not isinstance(calibrate, bool):
         raise ConfigError("calibrate_wavemaker", f"must be true or false; got {calibrate!r}")
     cfg["calibrate_wavemaker"] = calibrate
+    # a case without a cargo density gets the one its run will have
+    density = float(_check_set(cfg["preset_settings"]["ship"].get("set"), "ship.set").get(
+        "geometry.cargo_density", SHIP_DEFAULTS["cargo_density"]))
+    density = float(cfg["set"].get("geometry.cargo_density", density))
+    for row in cfg["cases"]:
+        if row["cargo_density"] is None:
+            row["cargo_density"] = density
     return cfg
 
 
@@ -402,6 +421,8 @@ def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
     over["geometry.damage.opening"] = float(row["opening"])
     over["geometry.damage.side"] = row["side"]
     over["geometry.fill"] = float(row["fill"])
+    if row.get("cargo_density") is not None:
+        over["geometry.cargo_density"] = float(row["cargo_density"])
     draught = over.get("geometry.hull.draught", DEFAULT_DRAUGHT)
     amplitude = float(row["amplitude"]) * float(draught)
     if amplitude > 0.0:
@@ -562,8 +583,11 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         amplitude=("case", np.array([c["amplitude"] for c in cases], dtype=float)),
         description=("case", np.array([c.get("description", "") for c in cases],
                                       dtype=object)),
+        cargo_density=("case", np.array([float(s.attrs.get("cargo_density", math.nan))
+                                         for s in sets])),
     )
-    for name in ("case", "opening", "side", "fill", "amplitude", "description"):
+    for name in ("case", "opening", "side", "fill", "amplitude", "description",
+                 "cargo_density"):
         ds[name].attrs = cf_attrs(name)
     source = f"sph-flood {__version__}"
     import datetime as _dt
@@ -586,6 +610,6 @@ def write_case_table(cases: Sequence[Mapping], path: str | Path) -> None:
     """Write checked case rows as a TSV table (the sweep's resolved case table)."""
     lines = ["\t".join(CASE_COLUMNS)]
     for c in cases:
-        lines.append("\t".join(f"{c[k]:.10g}" if isinstance(c[k], float) else str(c[k])
-                               for k in CASE_COLUMNS))
+        lines.append("\t".join(f"{c[k]:.10g}" if isinstance(c[k], float) else
+                               "" if c.get(k) is None else str(c[k]) for k in CASE_COLUMNS))
     Path(path).write_text("\n".join(lines) + "\n")

@@ -262,7 +262,7 @@ def _case(**geometry):
     ({"damage": {"opening": 0.1}}, "geometry.damage.opening"),  # 0.42 m < dx = 0.8 m
     ({"fill": 1.0}, "geometry.fill"),
     ({"fill": -0.1}, "geometry.fill"),
-    ({"fill": 0.75}, "geometry.fill"),  # heavier than the displacement allows
+    ({"fill": 0.75}, "geometry.cargo_density"),  # water outweighs the displacement
     ({"ship_x": 5.0}, "geometry.ship_x"),
     ({"ship_x": 140.0}, "geometry.ship_x"),
     ({"damage": {"side": "port"}}, "geometry.damage.side"),
@@ -305,7 +305,7 @@ def test_quick_reach_test_changes_no_line_of_sight_answer():
     op[7:12] = mid_shape(HULL)
     op[12] = HULL.kg
     op[13] = reach
-    op[15:18] = _opening_circle(HULL, 1.0, HULL.plating, z1, reach)
+    op[15:18] = _opening_circle(HULL, 1.0, HULL.plating, z1, reach, HULL.kg)
     kin = fixed_kinematics(1)
     kin[0, :3] = (40.0, 27.0, math.radians(8.0))  # reference point moved, hull heeled
     DamageOpening(0.0, op, np.zeros(0, np.int64)).apply(SimpleNamespace(kin=kin, t=0.0, step=0))

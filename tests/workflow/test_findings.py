@@ -280,6 +280,24 @@ def test_amplitude_findings_need_the_steady_window():
     assert out["F14"].holds is None and out["F15"].holds is None
 
 
+def test_runs_with_a_cargo_other_than_water_are_named():
+    """The findings name the runs whose cargo is not the paper's water (Table I's case8
+    carries an oil of 850 kg/m3), in the case labels of the measured values too."""
+    ds = _sweep(_paper_like())
+    assert findings.departures(ds) == []  # no cargo_density coordinate: nothing to say
+    dens = [1000.0] * 7 + [850.0]
+    ds = ds.assign_coords(cargo_density=("case", dens))
+    lines = findings.departures(ds)
+    assert len(lines) == 1 and lines[0].startswith("case8 (δ̄ = 10/21, η = 75 %)")
+    assert "850 kg/m³" in lines[0]
+    found = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    assert "η = 75 % (850 kg/m³ cargo)" in found["F11"].measured
+    assert "η = 50 % (" not in found["F11"].measured
+    # an empty ship's density does not matter
+    ds = ds.assign_coords(cargo_density=("case", [500.0] * 5 + [1000.0] * 3))
+    assert findings.departures(ds) == []
+
+
 def test_case_labels_name_the_wave_when_it_is_not_table_ones():
     labels = [findings.case_label(c) for c in AMP_CASES]
     assert labels[0].endswith("still water") and labels[1].endswith("Ā = 5/21")

@@ -130,12 +130,71 @@ def test_ship_overrides_and_case_document():
     assert over["geometry.damage.opening"] == pytest.approx(5 / 7)
     assert over["geometry.wavemaker.amplitude"] == pytest.approx(2.0)
     assert over["run.t_end"] == pytest.approx(12 * 2 * math.pi)
-    assert over["geometry.cargo_density"] == 850.0
+    assert over["geometry.cargo_density"] == 1000.0  # water: the case table's default
     doc = study.case_document("damaged_ship", over)
     assert doc["geometry"]["damage"] == {"opening": pytest.approx(5 / 7), "side": "back"}
     cfg = study.check_case_document(doc, "case4")
     assert cfg.numerics.dx == 0.8
     assert cfg.geometry.hull.breadth == 16.0  # from the built-in case's defaults
+
+
+def test_cargo_density_column_of_table_one():
+    """Table I carries water where the ship can carry it at the paper's draught and an oil
+    of 850 kg/m3 at 75 %; every run's case file has its row's density and passes the
+    engine's checks, and the checked rows pass the checked-table schema."""
+    import jsonschema
+
+    s = _load()
+    dens = {c["case"]: c["cargo_density"] for c in s["cases"]}
+    assert dens == {**{f"case{k}": 1000.0 for k in range(1, 8)}, "case8": 850.0}
+    schema = yaml.safe_load((ROOT / "config" / "schema" / "cases_checked.schema.yaml")
+                            .read_text())
+    for c in s["cases"]:
+        jsonschema.validate(c, schema)
+        over = study.ship_overrides(c, s)
+        assert over["geometry.cargo_density"] == dens[c["case"]]
+        cfg = study.check_case_document(study.case_document("damaged_ship", over), c["case"])
+        assert cfg.geometry.cargo_density == dens[c["case"]]
+    raw = yaml.safe_load((ROOT / "config" / "schema" / "cases.schema.yaml").read_text())
+    for row in study.read_case_table(ROOT / "config" / "cases" / "table1.tsv"):
+        jsonschema.validate(row, raw)
+
+
+def test_cargo_density_column_falls_back_on_set_and_is_written_out(tmp_path):
+    rows = [dict(case="a", opening="10/21", side="back", fill=0.5),
+            dict(case="b", opening="10/21", side="back", fill=0.5, cargo_density="900")]
+    s = _load(cases=rows, set={"geometry.cargo_density": 950.0, "numerics.shifting": 0.5})
+    over = {c["case"]: study.ship_overrides(c, s) for c in s["cases"]}
+    assert over["a"]["geometry.cargo_density"] == 950.0  # `set` for a row without one
+    assert over["b"]["geometry.cargo_density"] == 900.0  # the column wins over `set`
+    assert over["a"]["numerics.shifting"] == 0.5  # `set` still applies to other keys
+    assert _load(cases=rows)["cases"][0]["cargo_density"] == 1000.0  # the case's water
+    study.write_case_table(s["cases"], tmp_path / "cases.tsv")
+    back = study.check_cases(study.read_case_table(tmp_path / "cases.tsv"))
+    assert [c["cargo_density"] for c in back] == [950.0, 900.0]
+
+
+@pytest.mark.parametrize("value, message", [
+    (-5, r"must be in \[1, 100000\]; got -5"),
+    (2.0e5, r"must be in \[1, 100000\]"),
+    ("oil", "expected a number"),
+])
+def test_bad_cargo_density_is_refused_naming_the_row(value, message):
+    with pytest.raises(ConfigError, match=message) as err:
+        _load(cases=[dict(ROW), dict(ROW, case="b", cargo_density=value)])
+    assert err.value.key == "cases[1].cargo_density"
+
+
+def test_cargo_the_ship_cannot_carry_is_refused_before_any_job():
+    """Water at 75 % fill outweighs the displacement at the paper's draught: the run's case
+    file is refused naming the run, the key and the densest cargo that fits."""
+    s = _load(cases=[dict(case="w75", opening="10/21", side="back", fill=0.75,
+                          cargo_density=1000)])
+    over = study.ship_overrides(s["cases"][0], s)
+    with pytest.raises(ConfigError, match=r"dry part .* -0.536 % of the displacement.*"
+                       r"allowed \(0, 917\] kg/m3") as err:
+        study.check_case_document(study.case_document("damaged_ship", over), "case 'w75'")
+    assert err.value.key == "case 'w75': geometry.cargo_density"
 
 
 def test_still_water_case_has_no_wave():
@@ -215,7 +274,8 @@ def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed",
         probes={"probe_elevation": (["WP1", "W2"], np.vstack([t, 2 * t]))},
         attrs=dict(case="damaged_ship", status=status, wave_period=6.28, damage_time=2.0,
                    dx=0.8, wall_clock_seconds=12.5, steps=100, n_total=1000,
-                   particle_steps_per_second=8000.0, opening=case["opening"]),
+                   particle_steps_per_second=8000.0, opening=case["opening"],
+                   cargo_density=850.0 if case["fill"] > 0.0 else 1000.0),
         config_yaml=yaml.safe_dump({"run": {"t_end": t_end, "output_interval": dt_out}}))
     write_netcdf_atomic(ds, path)
     return path
@@ -232,8 +292,9 @@ def test_gather_builds_a_case_dimension(tmp_path):
     assert list(ds["case"].values) == ["a", "b"]
     assert ds["opening"].values[1] == pytest.approx(10 / 21)
     assert list(ds["side"].values) == ["back", "head"]
-    for name in ("opening", "side", "fill", "amplitude"):
+    for name in ("opening", "side", "fill", "amplitude", "cargo_density"):
         assert name in ds.coords and ds[name].dims == ("case",)
+    assert ds["cargo_density"].values.tolist() == [1000.0, 850.0]  # from each run's attrs
     assert ds["roll"].dims == ("case", "time")
     assert ds["roll"].attrs["units"] == "degree"
     assert ds["opening"].attrs["units"] == "1"

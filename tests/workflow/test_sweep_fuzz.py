@@ -72,6 +72,12 @@ KINDS = {
         st.floats(max_value=-1e-6, allow_nan=False, allow_infinity=False),
         st.floats(min_value=2.001, max_value=1e9, allow_nan=False),
     ).map(lambda v: (_row(amplitude=v), "cases[1].amplitude")),
+    "cargo density outside [1, 1e5]": st.one_of(
+        st.floats(max_value=0.999, allow_nan=False, allow_infinity=False),
+        st.floats(min_value=1.0001e5, max_value=1e12, allow_nan=False),
+    ).map(lambda v: (_row(cargo_density=v), "cases[1].cargo_density")),
+    "cargo density not a number": not_a_number.map(
+        lambda v: (_row(cargo_density=v), "cases[1].cargo_density")),
     "unknown side": unknown_word.map(lambda v: (_row(side=v), "cases[1].side")),
     "duplicate case id": st.just((_row(case="c1"), "cases[1].case")),
     "bad case id": bad_name.map(lambda v: (_row(case=v), "cases[1].case")),
@@ -112,7 +118,7 @@ def test_the_default_sweep_is_accepted():
 
 def test_every_kind_is_counted():
     # the number of kinds of invalid sweep covered (reported in docs/workflow.md)
-    assert len(KINDS) == 25
+    assert len(KINDS) == 27
 
 
 @pytest.mark.parametrize("kind", list(KINDS))

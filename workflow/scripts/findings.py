@@ -8,7 +8,7 @@ import csv
 import logging
 
 from sph.io.output import read_dataset
-from sph.study.findings import compute_findings, findings_html, findings_table
+from sph.study.findings import compute_findings, departures, findings_html, findings_table
 
 
 def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
@@ -25,10 +25,15 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
             f"{float(ds['time'][-1]) / period:.2f}; damage at t1/T = "
             f"{float(ds.attrs['damage_time']) / period:.2f}; dynamic equilibrium taken from "
             f"t2/T = {t2_periods:g}. Measures: see sph/study/findings.py.")
+    differ = departures(ds)
+    note += (" Runs that differ from the paper: " + "; ".join(differ) + "." if differ
+             else " No run differs from the paper in its cargo.")
     with open(out_html, "w") as fh:
         fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
     for f in found:
         logging.getLogger("findings").info("%s %s: %s", f.id, f.verdict, f.measured)
+    for line in differ:
+        logging.getLogger("findings").info("differs from the paper: %s", line)
 
 
 if __name__ == "__main__":
