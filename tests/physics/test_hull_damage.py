@@ -262,6 +262,23 @@ def test_fluid_changes_compartment_through_the_opening_only():
     assert x[6] == 0.0 and comp[6] == 0
 
 
+def test_band_beyond_the_opening_edge_is_measured_along_the_plating():
+    """With the lower edge at the cabin floor the bottom plating beside it is level, within
+    a band's width in height of the edge: a particle pressed through the bottom far from the
+    opening is put back, not let through into the cabin; one rounding the edge within the
+    margin of the edge point changes side."""
+    op, kin = _opening()  # lower edge at the floor height w = 0.1 (u = 6.875), +x side
+    op[14] = 0.4
+    x, z, vx, vz, vxo, vzo, comp = _guard(op, kin, x=[3.0, 5.0, 6.7, 7.0],
+                                          z=[0.15, 0.2, 0.2, 0.25], comp=[0, 0, 0, 0],
+                                          vz=[1.0, 1.0, 1.0, 1.0])
+    bottom = mid_shape(HULL)[1]
+    assert list(comp) == [0, 0, 1, 1]
+    assert z[0] == _near(2 * bottom - 0.15) and z[1] == _near(2 * bottom - 0.2)
+    assert vz[0] == _near(0.0) and vz[1] == _near(0.0)
+    assert z[2] == 0.2 and vz[2] == 1.0
+
+
 def test_closed_hull_sends_back_whatever_crosses_and_respects_the_hull_velocity():
     op, kin = _opening(open_=False)
     op[14] = 0.4
