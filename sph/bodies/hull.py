@@ -74,12 +74,40 @@ class HullConfig:
 
 
 def opening_bottom(hull: HullConfig) -> float:
-    """Keel-frame height of a side opening's lower edge: the cabin floor, or, on a rounded
-    bilge, the point where the plating's mid-surface turns 45 degrees. Below it the plating
-    is nearly horizontal and runs tangent to an edge cut at the floor's height, leaving a
-    sliver that the particles cannot resolve."""
-    s = mid_shape(hull)
-    return max(hull.plating, float(s[1] + s[3] * (1.0 - math.cos(0.25 * math.pi))))
+    """Keel-frame height of a side opening's lower edge: the cabin floor (the inner face of
+    the bottom plating), as the paper draws it; ``delta`` is measured from there (Cao et al.
+    2019, Sec. IV A: "the height from the top of the opening to the bottom of the cabin").
+    On a rounded bilge the edge cuts the bilge where its mid-surface reaches the floor's
+    height."""
+    return float(hull.plating)
+
+
+def side_point(hull: HullConfig, w: float) -> tuple[float, float]:
+    """The point ``(u, w)`` of the plating's mid-surface on the ``+u`` side at keel height
+    ``w`` (on the bilge's arc below its top, on the vertical side above)."""
+    hw, wb, wt, rb, rt = (float(v) for v in mid_shape(hull))
+    if not wb < w <= wt:
+        raise ValueError(f"w = {w:g} m is outside the side's mid-surface ({wb:g}, {wt:g}]")
+    if w < wb + rb:
+        return hw - rb + math.sqrt(rb * rb - (wb + rb - w) ** 2), w
+    if w > wt - rt:
+        return hw - rt + math.sqrt(rt * rt - (w - wt + rt) ** 2), w
+    return hw, w
+
+
+def opening_aperture(hull: HullConfig, w_low: float, w_high: float) -> float:
+    r"""Aperture (m) of a side opening between the keel heights ``w_low`` and ``w_high``:
+    the width of the gap the fluid passes through, the straight distance between the
+    opening's two edges on the plating's mid-surface.
+
+    Every particle that enters passes between the two edges, so the number of particles
+    abreast in the opening is this width over dx. On a vertical side it equals the length
+    of plating removed; on the bilge's arc the chord is shorter than the arc (1.43 m
+    against 1.49 m for the paper's 5/21 opening at the floor), and a plating that curves
+    round between the edges does not widen the passage."""
+    u0, w0 = side_point(hull, w_low)
+    u1, w1 = side_point(hull, w_high)
+    return math.hypot(u1 - u0, w1 - w0)
 
 
 def shape(hull: HullConfig, offset: float) -> np.ndarray:

@@ -39,6 +39,7 @@ from sph.bodies.hull import (
     cabin_area,
     hydrostatics,
     mid_shape,
+    opening_aperture,
     opening_bottom,
     outline_points,
     shape,
@@ -177,14 +178,7 @@ def check(cfg: CaseConfig) -> None:
             raise ConfigError("geometry.damage.opening", f"the opening's top edge ({top:g} m "
                               f"above the keel) is above the waterline (draught "
                               f"{hull.draught:g} m); allowed (0, {allowed:.4g})")
-        if opening < dx:
-            raise ConfigError("geometry.damage.opening", f"delta = {opening:g} m is narrower "
-                              f"than one particle spacing (numerics.dx = {dx:g} m); use "
-                              f"opening >= {dx / hull.draught:.4g} or a smaller dx")
-        if opening < 3 * dx:
-            log.warning("the damage opening (%.3g m) spans only %.1f particle spacings: the "
-                        "inflow is under-resolved (3 or more recommended)", opening,
-                        opening / dx)
+        check_aperture(hull, g.damage.opening, dx)
     if g.fill > 0.0 and g.fill * hull.depth < dx:
         raise ConfigError("geometry.fill", f"cargo height fill * D = {g.fill * hull.depth:g} m "
                           f"is below one particle spacing ({dx:g} m); use 0 or a larger fill")
@@ -193,6 +187,34 @@ def check(cfg: CaseConfig) -> None:
     masses(cfg)
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
+
+
+#: an opening narrower than this many particle spacings runs with a warning
+APERTURE_WARN_SPACINGS = 4.0
+
+
+def check_aperture(hull: HullConfig, opening: float, dx: float) -> float:
+    """Refuse an opening whose aperture (:func:`sph.bodies.hull.opening_aperture`, the gap
+    between its edges) is narrower than one particle spacing, and warn below
+    ``APERTURE_WARN_SPACINGS`` spacings: fewer particles abreast than that resolve the
+    jet's contraction at the edges poorly, and the inflow with them. Returns the aperture.
+    """
+    z0 = opening_bottom(hull)
+    z1 = hull.plating + opening * hull.draught
+    aperture = opening_aperture(hull, z0, z1)
+    spacings = aperture / dx
+    if spacings < 1.0:
+        raise ConfigError("geometry.damage.opening", f"the opening {opening:.4g} (delta = "
+                          f"{opening * hull.draught:.3g} m) has an aperture of {aperture:.3g} "
+                          f"m, narrower than one particle spacing (numerics.dx = {dx:g} m): "
+                          f"use a larger opening or numerics.dx <= {aperture:.3g} m")
+    if spacings < APERTURE_WARN_SPACINGS:
+        log.warning("the damage opening %.4g (delta = %.3g m) has an aperture of %.3g m, "
+                    "%.3g particle spacings at numerics.dx = %g m: its inflow is "
+                    "under-resolved (%g or more recommended: numerics.dx <= %.3g m)",
+                    opening, opening * hull.draught, aperture, spacings, dx,
+                    APERTURE_WARN_SPACINGS, aperture / APERTURE_WARN_SPACINGS)
+    return aperture
 
 
 # ------------------------------------------------------------------------------ set-up

@@ -24,8 +24,9 @@ zeros: no opening), packed by :func:`pack_opening`:
 ``OP_KG``           height of the reference point (centre of gravity) above the keel
 ``OP_REACH``        particles within this distance of the mid-surface are checked for
                     their side
-``OP_MARGIN``       a particle rounding the opening's edge within this distance of it
-                    changes compartment (beyond it, it was pressed through the plating)
+``OP_MARGIN``       a particle rounding the opening's edge within this distance of the
+                    edge point changes compartment (beyond it, it was pressed through
+                    the plating)
 ``OP_CENTRE_U/W``   centre of a circle around the opening's part of the mid-surface, in
                     the hull's frame (``u``, ``w`` minus the reference height)
 ``OP_REACH2``       squared reach of that circle: its radius plus the kernel support
@@ -287,6 +288,40 @@ def _normal(u, w, s):
     return gu / n, gw / n
 
 
+@njit(**JIT)
+def side_u(w, s):
+    """``u`` of the outline ``s`` on its ``+u`` side at height ``w`` (within its bottom and
+    top arcs or its vertical side)."""
+    if w < s[1] + s[3]:
+        r, dw = s[3], s[1] + s[3] - w
+        return s[0] - r + math.sqrt(max(r * r - dw * dw, 0.0))
+    if w > s[2] - s[4]:
+        r, dw = s[4], w - s[2] + s[4]
+        return s[0] - r + math.sqrt(max(r * r - dw * dw, 0.0))
+    return s[0]
+
+
+@njit(**JIT)
+def in_opening_band(u, w, op):
+    """True when the mid-surface point ``(u, w)`` lies in the opening or within
+    ``OP_MARGIN`` of one of its edges, the distance taken from the edge point (along the
+    plating, not in height: where the plating runs nearly level, as the bottom does beside
+    an edge at the cabin floor, a band in height would take in the whole bottom)."""
+    if op[OP_SIDE] * u <= 0.0:
+        return False
+    if op[OP_W_LOW] <= w <= op[OP_W_HIGH]:
+        return True
+    s = op[OP_SHAPE:OP_SHAPE_END]
+    au = abs(u)
+    m2 = op[OP_MARGIN] * op[OP_MARGIN]
+    for we in (op[OP_W_LOW], op[OP_W_HIGH]):
+        du = au - side_u(we, s)
+        dw = w - we
+        if du * du + dw * dw <= m2:
+            return True
+    return False
+
+
 @njit(**JIT_PARALLEL)
 def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
     """Keep the fluid on its side of a thin hull; let it change side through an opening.
@@ -295,9 +330,9 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
     ``OP_REACH`` of the plating's mid-surface that is found on the wrong side of it has
     either passed through the open opening or been pushed through the plating:
 
-    * through the opening (the nearest mid-surface point lies on the opening's side within
-      ``OP_MARGIN`` of its height range, so that a particle rounding the plating's end
-      counts):
+    * through the opening (the nearest mid-surface point lies in the opening or within
+      ``OP_MARGIN`` of one of its edges, :func:`in_opening_band`, so that a particle
+      rounding the plating's end counts):
       it takes the compartment of the side it is on;
     * through the plating: it is put back at its mirror image across the mid-surface and the
       velocity component (relative to the hull) that carried it through is removed, from
@@ -310,7 +345,6 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
     g = int(op[OP_GROUP])
     s = op[OP_SHAPE:OP_SHAPE_END]
     reach = op[OP_REACH]
-    margin = op[OP_MARGIN]
     opened = op[OP_OPEN] != 0.0
     ct = math.cos(kin[g, 2])
     st = math.sin(kin[g, 2])
@@ -332,8 +366,7 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
         if opened:
             fu = u - d * nu
             fw = w - d * nw
-            if (op[OP_SIDE] * fu > 0.0
-                    and op[OP_W_LOW] - margin <= fw <= op[OP_W_HIGH] + margin):
+            if in_opening_band(fu, fw, op):
                 comp[i] = b if d < 0.0 else a
                 continue
         u -= 2.0 * d * nu

@@ -15,9 +15,11 @@ from sph.bodies.hull import (
     flooded_equilibrium,
     hydrostatics,
     mid_shape,
+    opening_aperture,
     opening_bottom,
     shape,
     shell_particles,
+    side_point,
     submerged,
 )
 from sph.cases import build_case, builtin
@@ -160,12 +162,40 @@ def test_wall_layers_across_the_opening_are_hidden():
     assert not wall_hidden(7.6, 1.5, 8.35, 1.5, 0, closed, kin)
 
 
-def test_opening_lower_edge_on_the_bilge():
-    # mid-surface bilge radius r = 1.5 - 0.05 centred 1.5 above the keel: 45-degree point
-    r = HULL.bilge_radius - 0.5 * HULL.plating
-    assert opening_bottom(HULL) == pytest.approx(1.5 - r * math.cos(math.pi / 4))
+def test_opening_lower_edge_at_the_cabin_floor():
+    # the paper measures delta from the cabin bottom: the lower edge is the floor's height,
+    # where it cuts the bilge's mid-surface arc (radius r = 1.5 - 0.05, centre 1.5 m up)
+    assert opening_bottom(HULL) == pytest.approx(HULL.plating)
+    r, t = HULL.bilge_radius - 0.5 * HULL.plating, HULL.plating
+    u, w = side_point(HULL, t)
+    assert w == t
+    assert u == pytest.approx(0.5 * HULL.breadth - HULL.bilge_radius
+                              + math.sqrt(r * r - (HULL.bilge_radius - t) ** 2))
+    assert side_point(HULL, 3.0) == pytest.approx((0.5 * (HULL.breadth - t), 3.0))
+    with pytest.raises(ValueError):
+        side_point(HULL, 0.0)  # below the bottom's mid-surface
+
+
+def test_opening_aperture_is_the_gap_between_its_edges():
+    t, b, rb = HULL.plating, HULL.breadth, HULL.bilge_radius
+    r = rb - 0.5 * t
+    u0 = 0.5 * b - rb + math.sqrt(r * r - (rb - t) ** 2)  # lower edge on the bilge
+    # the 10/21 opening's top edge (2.1 m) on the vertical side: the chord from the floor
+    top = t + 10 / 21 * HULL.draught
+    assert opening_aperture(HULL, t, top) == pytest.approx(
+        math.hypot(0.5 * (b - t) - u0, top - t))
+    # the 5/21 opening ends on the arc: 1.43 m between its edges, for a 1 m height
+    top = t + 5 / 21 * HULL.draught
+    u1 = 0.5 * b - rb + math.sqrt(r * r - (rb - top) ** 2)
+    ap = opening_aperture(HULL, t, top)
+    assert ap == pytest.approx(math.hypot(u1 - u0, top - t))
+    assert ap == pytest.approx(1.426, abs=1e-3)
+    # shorter than the arc of plating it removes, longer than its height
+    a0, a1 = math.acos((rb - t) / r), math.acos((rb - top) / r)
+    assert top - t < ap < r * (a1 - a0)
+    # a square bilge: the opening is a vertical slot, aperture = height
     square = dataclasses.replace(HULL, bilge_radius=0.0)
-    assert opening_bottom(square) == pytest.approx(square.plating)
+    assert opening_aperture(square, t, 2.1) == pytest.approx(2.0)
 
 
 def test_probe_next_to_a_wall_reads_the_level():
@@ -232,6 +262,23 @@ def test_fluid_changes_compartment_through_the_opening_only():
     assert x[6] == 0.0 and comp[6] == 0
 
 
+def test_band_beyond_the_opening_edge_is_measured_along_the_plating():
+    """With the lower edge at the cabin floor the bottom plating beside it is level, within
+    a band's width in height of the edge: a particle pressed through the bottom far from the
+    opening is put back, not let through into the cabin; one rounding the edge within the
+    margin of the edge point changes side."""
+    op, kin = _opening()  # lower edge at the floor height w = 0.1 (u = 6.875), +x side
+    op[14] = 0.4
+    x, z, vx, vz, vxo, vzo, comp = _guard(op, kin, x=[3.0, 5.0, 6.7, 7.0],
+                                          z=[0.15, 0.2, 0.2, 0.25], comp=[0, 0, 0, 0],
+                                          vz=[1.0, 1.0, 1.0, 1.0])
+    bottom = mid_shape(HULL)[1]
+    assert list(comp) == [0, 0, 1, 1]
+    assert z[0] == _near(2 * bottom - 0.15) and z[1] == _near(2 * bottom - 0.2)
+    assert vz[0] == _near(0.0) and vz[1] == _near(0.0)
+    assert z[2] == 0.2 and vz[2] == 1.0
+
+
 def test_closed_hull_sends_back_whatever_crosses_and_respects_the_hull_velocity():
     op, kin = _opening(open_=False)
     op[14] = 0.4
@@ -259,7 +306,7 @@ def _case(**geometry):
 @pytest.mark.parametrize("geometry, key", [
     ({"damage": {"opening": 0.99}}, "geometry.damage.opening"),  # top above the waterline
     ({"hull": {"draught": 8.0}, "damage": {"opening": 1.0}}, "geometry.damage.opening"),
-    ({"damage": {"opening": 0.1}}, "geometry.damage.opening"),  # 0.42 m < dx = 0.8 m
+    ({"damage": {"opening": 0.05}}, "geometry.damage.opening"),  # aperture 0.5 m < dx
     ({"fill": 1.0}, "geometry.fill"),
     ({"fill": -0.1}, "geometry.fill"),
     ({"fill": 0.75}, "geometry.cargo_density"),  # water outweighs the displacement
@@ -282,10 +329,33 @@ def test_paper_fill_runs_with_a_lighter_cargo():
     assert cfg.geometry.fill == 0.75
 
 
-def test_narrow_opening_warns(caplog):
-    with caplog.at_level(logging.WARNING):
-        build_case(_case(damage={"opening": 0.4}))  # 1.68 m = 2.1 dx
-    assert any("particle spacings" in r.getMessage() for r in caplog.records)
+def test_opening_narrower_than_a_spacing_is_refused_naming_its_aperture():
+    # 0.1 d = 0.42 m high: 0.81 m between its edges, one spacing at dx = 0.8 m (runs),
+    # not at dx = 0.85 m (refused before any particle is made)
+    build_case(_case(damage={"opening": 0.1}))
+    with pytest.raises(ConfigError) as err:
+        build_case({**_case(damage={"opening": 0.1}), "numerics": {"dx": 0.85}})
+    msg = str(err.value)
+    assert err.value.key == "geometry.damage.opening"
+    assert "opening 0.1 " in msg and "aperture of 0.809 m" in msg and "dx = 0.85 m" in msg
+
+
+@pytest.mark.parametrize("opening, dx, warns", [
+    (5 / 21, 0.8, True),    # 1.43 m aperture: 1.8 spacings
+    (5 / 21, 0.35, False),  # 4.07 spacings
+    (5 / 7, 0.8, True),     # 3.19 m: 3.98 spacings
+    (5 / 7, 0.75, False),   # 4.25 spacings
+])
+def test_narrow_opening_warns_naming_its_aperture(caplog, opening, dx, warns):
+    case = {**_case(damage={"opening": opening}), "numerics": {"dx": dx}}
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        build_case(case)
+    msgs = [r.getMessage() for r in caplog.records if "aperture" in r.getMessage()]
+    assert bool(msgs) == warns, msgs
+    if warns:
+        ap = opening_aperture(HULL, HULL.plating, HULL.plating + opening * HULL.draught)
+        assert f"opening {opening:.4g} " in msgs[0]
+        assert f"aperture of {ap:.3g} m" in msgs[0] and f"dx = {dx:g} m" in msgs[0]
 
 
 def test_quick_reach_test_changes_no_line_of_sight_answer():

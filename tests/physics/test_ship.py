@@ -12,7 +12,13 @@ import pytest
 from physics_helpers import run_builtin
 
 from sph.bodies.damage import orifice_rate
-from sph.bodies.hull import cabin_area, flooded_equilibrium, mid_shape, opening_bottom
+from sph.bodies.hull import (
+    cabin_area,
+    flooded_equilibrium,
+    mid_shape,
+    opening_aperture,
+    opening_bottom,
+)
 from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
@@ -125,7 +131,7 @@ def _orifice_estimate(hull, z1):
 def test_early_inflow_through_the_opening_is_of_the_orifice_order():
     """The first 1.5 s of flooding: the inflow rate is that of an orifice of the opening's
     height, q = C_d sqrt(2g) 2/3 (y1^1.5 - y0^1.5) with C_d = 0.6 (a sharp-edged slot in a
-    thin plate: the jet contracts to pi / (pi + 2) = 0.61 of the opening), measured 0.88 of
+    thin plate: the jet contracts to pi / (pi + 2) = 0.61 of the opening), measured 0.90 of
     it. Bounds 0.7-1.2: the water rising in the cabin lowers the head across the opening
     (the estimate takes the cabin as empty), the ship sinking as it floods raises it, and
     the opening's edges are resolved to half a particle spacing (+-10 % of its area here)."""
@@ -256,3 +262,71 @@ def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
     assert m["low"][0] < est["sloshing"] and m["low"][0] < 0.6 * 1.06, m
     for _, zeta in (m["low"], m["high"]):
         assert 0.0 < zeta < 0.5, m
+
+
+#: the orifice runs: still water in a short, shallow tank (3 breadths long, 4.8 m under the
+#: keel), the ship held fixed, dx with at least 4 spacings across the smallest aperture
+ORIFICE_DX, ORIFICE_DEPTH, ORIFICE_LENGTH = 0.35, 9.0, 48.0
+
+
+def _orifice_run(opening):
+    t1 = 0.16 * 2.0 * np.pi  # s (0.16 T): the start-up transient of the still tank is over
+    cfg = builtin("damaged_ship", [
+        f"numerics.dx={ORIFICE_DX}", f"geometry.depth={ORIFICE_DEPTH}",
+        f"geometry.tank_length={ORIFICE_LENGTH}", f"geometry.ship_x={ORIFICE_LENGTH / 2}",
+        f"geometry.tank_height={ORIFICE_DEPTH + 6.0}", "geometry.absorber.enabled=false",
+        "geometry.wavemaker.amplitude=null", "geometry.wavemaker.theta0=0",
+        "probes.surface=[]", "geometry.fill=0", f"geometry.damage.opening={opening}",
+        "geometry.damage.side=back", "geometry.damage.time_periods=0.16",
+        "geometry.dofs.sway=false", "geometry.dofs.heave=false", "geometry.dofs.roll=false",
+        "run.output_interval=0.05", f"run.t_end={t1 + 1.0 + 1e-6}"])
+    return Simulation(cfg).run()
+
+
+def orifice_discharge_coefficient(sim):
+    """C_d of the first second of flooding: the inflow rate (slope of the flood volume over
+    t1 + 0.25 s to t1 + 1 s) over the orifice law into the empty cabin,
+    Q = int_{z0}^{z1} sqrt(2 g (h_out - z)) dz, with h_out the draught lowered by the fall
+    of the tank's level (the flood volume over the free surface's length, tank length minus
+    breadth: 0.1-0.16 m here, which the paper's 150 m tank would make four times smaller).
+    """
+    ds = sim.dataset()
+    t, q = ds["time"].values, ds["flood_volume"].values
+    t1 = ds.attrs["damage_time"]
+    sel = (t >= t1 + 0.25 - 1e-9) & (t <= t1 + 1.0 + 1e-9)
+    rate = np.polyfit(t[sel], q[sel], 1)[0]
+    h_out = HULL.draught - np.mean(q[sel]) / (ORIFICE_LENGTH - HULL.breadth)
+    z0 = opening_bottom(HULL)
+    z1 = HULL.plating + ds.attrs["opening"] * HULL.draught
+    return rate / orifice_rate(h_out - z0, h_out - z1, 9.81, 1.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("opening", [
+    5 / 21,
+    10 / 21,
+    pytest.param(5 / 7, marks=pytest.mark.xfail(strict=True, reason=(
+        "measured C_d = 0.53: the top edge is 1.1 m under the surface for a 3 m opening, "
+        "and the surface draws down about 0.6 m beside the hull (docs/ship.md)"))),
+])
+def test_initial_inflow_follows_the_orifice_law(opening):
+    """The first second of flooding through each Table I opening (still water, ship held
+    fixed) against the orifice law Q = C_d int sqrt(2 g (h_out - z)) dz over the opening's
+    height, C_d between 0.6 and 0.8: a sharp-edged slot contracts its jet to
+    pi / (pi + 2) = 0.61, a slot with an edge the flow follows less. Measured at
+    dx = 0.35 m (4.1, 6.5 and 9.1 spacings across the apertures): C_d = 0.85, 0.62, 0.53.
+
+    An opening that reaches onto the bilge takes flow from below as well as from the side:
+    its aperture (the gap between its edges, 1.43 m for the 5/21 opening) is longer than its
+    height, which the law counts alone, so the upper bound is 0.8 times their ratio (the
+    law over the aperture at 0.8). The 5/7 opening's top edge is 1.1 m below the surface:
+    the surface draws down beside the hull and the law, which takes the undisturbed level,
+    overestimates the head of its upper part (it fails the band; strict)."""
+    z0, z1 = opening_bottom(HULL), HULL.plating + opening * HULL.draught
+    aperture = opening_aperture(HULL, z0, z1)
+    assert aperture >= 4.0 * ORIFICE_DX
+    sim = _orifice_run(opening)
+    assert sim.n_lost == 0
+    cd = orifice_discharge_coefficient(sim)
+    lo, hi = 0.6, 0.8 * aperture / (z1 - z0)
+    assert lo <= cd <= hi, cd
