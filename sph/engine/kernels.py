@@ -144,7 +144,11 @@ def f_r2(r2, kp):
 @njit(inline="always", **JIT)
 def pair_scale(hs, i, j):
     """Smoothing length of the pair ``(i, j)`` over the case's ``h``: the mean of the
-    particles' own ratios ``hs`` (exact for the powers of two of the refinement levels)."""
+    particles' own ratios ``hs`` (exact for the powers of two of the refinement levels);
+    1 when ``hs`` is None (uniform resolution: a loop compiled for None has no trace of
+    it)."""
+    if hs is None:
+        return 1.0
     return 0.5 * (hs[i] + hs[j])
 
 

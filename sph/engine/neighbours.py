@@ -139,7 +139,7 @@ class NeighbourList:
     def build(self, x, z, kind, grid: CellGrid, radius: float, hs) -> None:
         """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it);
         under variable resolution a pair's radius is ``radius`` times its smoothing length
-        ratio (``hs``, :func:`sph.engine.kernels.pair_scale`)."""
+        ratio (``hs``, :func:`sph.engine.kernels.pair_scale`; None: uniform)."""
         n = x.shape[0]
         if self.start.shape[0] != n + 1:
             self.start = np.zeros(n + 1, dtype=self.DTYPE_START)

@@ -256,7 +256,8 @@ class Stepper:
         g = self.grid
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
-        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, self.kp, self.gx,
+        hs = p.hs if self.variable else None  # the loops compiled for None: no scale
+        wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end)
         if self.delta_coef and not self.ddt_rho:
@@ -269,7 +270,7 @@ class Stepper:
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable)
         if self.bodies:
-            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, self.kp,
+            wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp,
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
                         self.nlist.inner_end)
@@ -300,7 +301,7 @@ class Stepper:
         p.permute(g.order)
         p.x_sort[:] = p.x
         p.z_sort[:] = p.z
-        nl.build(p.x, p.z, p.kind, g, self.list_radius, p.hs)
+        nl.build(p.x, p.z, p.kind, g, self.list_radius, p.hs if self.variable else None)
         self._refresh_inner()
         self._listed = p
 
@@ -308,7 +309,7 @@ class Stepper:
         p = self.parts
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
-        self.nlist.refresh(p.x, p.z, self.inner_radius, p.hs)
+        self.nlist.refresh(p.x, p.z, self.inner_radius, p.hs if self.variable else None)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -501,7 +502,8 @@ class Stepper:
         n_out = self.grid.sort(parts.x_sort, parts.z_sort)
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
+        hs = parts.hs if self.variable else None
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius,
-                         parts.hs)
-        self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, parts.hs)
+                         hs)
+        self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, hs)
         self._listed = parts

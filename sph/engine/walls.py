@@ -90,7 +90,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0 hs^2`` (= dx^2 at its refinement level; walls
-    are rigid), so its mass follows its density: ``m = rho vol0 hs^2``. Fluid seen through
+    are rigid), so its mass follows its density: ``m = rho vol0 hs^2``. ``hs``: each
+    particle's smoothing length ratio, None at uniform resolution (1). Fluid seen through
     an open damage opening ``op`` does not count (:func:`sph.engine.opening.wall_hidden`).
     The pressure is clamped at zero: a wall in tension would attract the fluid through
     itself. The fluid neighbours come from the wall particle's inner list
@@ -131,7 +132,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
         # takes negative pressure with it); walls push, they do not pull
         p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
-        m[i] = rho[i] * vol0 * hs[i] * hs[i]
+        m[i] = rho[i] * vol0 * pair_scale(hs, i, i) ** 2
 
 
 @njit(**JIT_PARALLEL)
