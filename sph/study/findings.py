@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sph.study.sweeps import DEFAULT_AMPLITUDE
+from sph.study.sweeps import DEFAULT_AMPLITUDE, one_wave
 
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
 NEAR_MINIMUM = 0.10
@@ -748,8 +748,12 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         The paper's comparisons (:func:`sph.study.sweeps.groups`).
     t2_periods : float
         Start of the dynamic equilibrium in wave periods.
+
+    The groups' cases are at one wave frequency (:func:`sph.study.sweeps.groups`); in a
+    sweep over wave frequency the findings are measured on them alone
+    (:func:`sph.study.sweeps.one_wave`).
     """
-    s = _Sweep(ds, t2_periods)
+    s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
     sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")
