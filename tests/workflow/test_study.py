@@ -419,3 +419,21 @@ def xr_open(path):
     ds.close()
     return ds
 
+
+
+def test_a_ship_case_warns_of_a_zone_shorter_than_its_wave(caplog):
+    """`sph run` of a ship case in a long wave and the paper's tank warns; the tank of
+    tank_for_wave does not."""
+    import logging
+
+    from sph.cases import builtin
+
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        builtin("damaged_ship", ["geometry.wavemaker.omega=0.6"])
+    assert "absorbing zone (60 m) is 0.41 lengths of the 146.8 m wave" in caplog.text
+    caplog.clear()
+    tank = [f"{k}={v}" for k, v in study.tank_for_wave(0.6).items()]
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        builtin("damaged_ship", ["geometry.wavemaker.omega=0.6", *tank])
+        builtin("damaged_ship")
+    assert "absorbing zone" not in caplog.text
