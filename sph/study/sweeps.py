@@ -108,7 +108,7 @@ PRESET_SECTION_KEYS = {
 #: the largest wave frequency a case row may ask for (rad/s; a 0.6 s wave)
 OMEGA_MAX = 10.0
 #: Miche's breaking limit of a regular wave: H / lambda at most ``MICHE tanh(k h)``
-#: (Miche 1944; Dean & Dalrymple 1991, Sec. 4.10)
+#: (Miche 1944)
 MICHE = 0.142
 #: the largest Ursell number ``H lambda^2 / h^3``: the second harmonic of a Stokes wave in
 #: shallow water is ``a2 / a1 = 3 Ur / (32 pi^2)`` of the first, a quarter at ``8 pi^2 / 3``
@@ -257,9 +257,9 @@ def _omega(value: Any, key: str) -> float:
     if value in (None, ""):
         return DEFAULT_OMEGA
     omega = parse_number(value, key)
-    if omega <= 0.0:
+    if not 0.0 < omega <= OMEGA_MAX:
         raise ConfigError(key, f"must be in (0, {OMEGA_MAX:g}] rad/s; got {omega:g}")
-    return _in_range(omega, key, 0.0, OMEGA_MAX)
+    return omega
 
 
 # ------------------------------------------------------------------------------ presets

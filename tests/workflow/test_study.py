@@ -287,7 +287,7 @@ def test_omega_column_defaults_to_the_built_in_wave():
 @pytest.mark.parametrize("omega, message", [
     (0, r"must be in \(0, 10\] rad/s; got 0"),
     (-0.5, r"must be in \(0, 10\] rad/s"),
-    (12, r"must be in \[0, 10\]; got 12"),
+    (12, r"must be in \(0, 10\] rad/s; got 12"),
     ("fast", "expected a number"),
 ])
 def test_bad_omega_names_the_column(omega, message):
