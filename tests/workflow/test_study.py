@@ -304,15 +304,25 @@ def test_bad_omega_names_the_column(omega, message):
      "Ursell number 2A length.2 / h.3 = 43.4 above 26.3"),
     # A = 0.42 m: a wave height of 1.05 spacings at the coarse dx = 0.8 m
     (dict(amplitude=0.1), {}, "cases[1].amplitude", "spans 1 particle spacings"),
-    # a sweep that keeps the built-in tank: its 60 m zone is 0.41 of the 147 m wave
-    (dict(omega=0.6), {"set": {"geometry.tank_length": 150.0}}, "cases[1].omega",
-     "zone is 60 m, 0.41 wave lengths"),
 ])
 def test_waves_the_runs_cannot_carry_are_refused(row, changes, key, message):
     rows = [dict(ROW), dict(ROW, case="b", **row)]
     with pytest.raises(ConfigError, match=message) as err:
         _load(cases=rows, **changes)
     assert err.value.key == key
+
+
+def test_a_tank_the_sweep_sets_is_kept_and_a_short_zone_warned_about(caplog):
+    import logging
+
+    rows = [dict(ROW), dict(ROW, case="b", omega=0.6, amplitude=1.1)]
+    with caplog.at_level(logging.WARNING, logger="sph.study.sweeps"):
+        s = _load(cases=rows, set={"geometry.tank_length": 150.0})
+    # the built-in 60 m zone is 0.41 of the 147 m wave
+    assert "shorter than 0.95 wave lengths" in caplog.text and "b (0.41)" in caplog.text
+    assert "a (" not in caplog.text
+    over = study.ship_overrides(s["cases"][1], s)
+    assert over["geometry.tank_length"] == 150.0 and "geometry.absorber.start" not in over
 
 
 def test_the_tank_follows_the_wave_length():
