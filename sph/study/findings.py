@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sph.study.sweeps import DEFAULT_AMPLITUDE, one_wave
+from sph.study.sweeps import DEFAULT_AMPLITUDE, DEFAULT_OMEGA, one_wave
 
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
 NEAR_MINIMUM = 0.10
@@ -224,8 +224,8 @@ def fraction_text(x: float, max_den: int = 21) -> str:
 
 
 def case_label(case: Mapping) -> str:
-    """A short label of a case in the paper's notation; the wave amplitude is named when it
-    is not Table I's (A / d = 10/21)."""
+    """A short label of a case in the paper's notation; the wave amplitude and frequency are
+    named when they are not Table I's (A / d = 10/21, omega = 1 rad/s)."""
     if case["opening"] == 0:
         base = "intact"
     else:
@@ -237,6 +237,9 @@ def case_label(case: Mapping) -> str:
         label += ", still water"
     elif abs(amp - DEFAULT_AMPLITUDE) > 1e-9:
         label += f", Ā = {fraction_text(amp)}"
+    omega = float(case.get("omega", DEFAULT_OMEGA))
+    if amp > 0.0 and abs(omega - DEFAULT_OMEGA) > 1e-9:
+        label += f", ω = {omega:g} rad/s"
     return label
 
 

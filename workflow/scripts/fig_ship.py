@@ -44,8 +44,11 @@ def _series(ds, case, name):
 
 def _case(ds, case):
     c = ds.sel(case=case)
-    return dict(case=case, opening=float(c["opening"]), side=str(c["side"].values),
-                fill=float(c["fill"]), amplitude=float(c["amplitude"]))
+    out = dict(case=case, opening=float(c["opening"]), side=str(c["side"].values),
+               fill=float(c["fill"]), amplitude=float(c["amplitude"]))
+    if "omega" in c.coords:
+        out["omega"] = float(c["omega"])
+    return out
 
 
 def _wave(ds, case):
