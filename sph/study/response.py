@@ -19,7 +19,10 @@ roll natural frequency the roll RAO peaks at a height set by the roll damping.
 The amplitudes are the findings' (:mod:`sph.study.findings`): half the 5-95 % range of the
 oscillation about the one-period running mean (0.988 a for a sine of amplitude a; a ship
 still sinking after the damage adds nothing), over the dynamic equilibrium from
-``t2 = t2_periods T`` to the end of each run, each case with its own period T.
+``t2 = t2_periods T`` to the end of each run, each case with its own period T. They count
+every harmonic; the table also gives the RAOs of the first harmonic alone (the linear
+RAO): in the long, steep waves of a sweep at fixed slope the roll carries a second harmonic
+near its natural frequency (2 omega = 1.2 rad/s at 0.6 rad/s).
 
 The intact ship's roll natural frequency, marked on the figure, is the free roll decay's
 (``ship_decay``, ``docs/validation/ship_decay.md``): 1.059 rad/s at dx = 0.8 and 0.4 m,
@@ -32,7 +35,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from sph.bodies.wavemaker import wavenumber
-from sph.study.findings import amplitude, fraction_text, oscillation, window
+from sph.study.findings import amplitude, fraction_text, harmonics, oscillation, window
 from sph.study.sweeps import (
     DEFAULT_AMPLITUDE,
     DEFAULT_DEPTH,
@@ -72,7 +75,10 @@ def response_table(ds, t2_periods: float) -> list[dict]:
     Each row: ``case``, ``opening``, ``side``, ``fill``, ``omega`` (rad/s), ``period`` (s),
     ``amplitude`` (A, m), ``wavenumber`` (k, 1/m), ``steepness`` (k A), ``roll_amplitude``
     (degree), ``heave_amplitude`` (m), ``roll_rao`` (phi_a / (k A)), ``heave_rao``
-    (z_a / A). Still-water cases (A = 0) are left out.
+    (z_a / A), and ``roll_rao_first``, ``heave_rao_first``: the same of the first harmonic
+    alone (the sinusoid at omega fitted with a straight line after t2,
+    :func:`sph.study.findings.harmonics`; the linear RAO, without the wave's and the ship's
+    higher harmonics). Still-water cases (A = 0) are left out.
     """
     t = ds["time"].values
     draught = float(ds.attrs.get("draught", DEFAULT_DRAUGHT))
@@ -86,15 +92,19 @@ def response_table(ds, t2_periods: float) -> list[dict]:
         omega = _case_value(ds, OMEGA_COLUMN, case, DEFAULT_OMEGA)
         period = _case_value(ds, "wave_period", case, 2.0 * math.pi / omega)
         k = wavenumber(omega, depth, GRAVITY)
-        roll, heave = (amplitude(window(t, oscillation(t, ds[name].sel(case=case).values,
-                                                       period), t2_periods * period))
-                       for name in ("roll", "heave"))
+        t2 = t2_periods * period
+        series = {name: ds[name].sel(case=case).values for name in ("roll", "heave")}
+        roll, heave = (amplitude(window(t, oscillation(t, y, period), t2))
+                       for y in series.values())
+        roll1, heave1 = (float(abs(harmonics(window(t, t, t2), window(t, y, t2),
+                                             [omega])[0])) for y in series.values())
         rows.append(dict(
             case=case, opening=float(ds["opening"].sel(case=case)),
             side=str(ds["side"].sel(case=case).values), fill=float(ds["fill"].sel(case=case)),
             omega=omega, period=period, amplitude=amp, wavenumber=k, steepness=k * amp,
             roll_amplitude=roll, heave_amplitude=heave,
-            roll_rao=math.radians(roll) / (k * amp), heave_rao=heave / amp))
+            roll_rao=math.radians(roll) / (k * amp), heave_rao=heave / amp,
+            roll_rao_first=math.radians(roll1) / (k * amp), heave_rao_first=heave1 / amp))
     return rows
 
 
@@ -132,7 +142,8 @@ def write_csv(rows: Sequence[Mapping], path) -> None:
     import csv
 
     fields = ["case", "opening", "side", "fill", "omega", "period", "amplitude", "wavenumber",
-              "steepness", "roll_amplitude", "heave_amplitude", "roll_rao", "heave_rao"]
+              "steepness", "roll_amplitude", "heave_amplitude", "roll_rao", "heave_rao",
+              "roll_rao_first", "heave_rao_first"]
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()

@@ -102,6 +102,24 @@ def test_response_table_recovers_the_raos():
             math.radians(r["roll_amplitude"]) / r["steepness"], rel=1e-12)
 
 
+def test_first_harmonic_rao_leaves_out_a_second_harmonic():
+    """A roll with a second harmonic of 40 % (a steep long wave exciting the roll near its
+    natural frequency at 2 omega): the amplitude measure counts it, the first-harmonic RAO
+    does not (a least-squares sine, exact to the sampling)."""
+    ds = _dataset(still=False)
+    t = ds["time"].values
+    roll = ds["roll"].values.copy()
+    first = roll[0].copy()
+    roll[0] = first + 0.4 * np.nanmax(np.abs(first[t > 7 * 2 * math.pi / 0.6])) \
+        * np.sin(2 * 0.6 * t)
+    ds["roll"] = (("case", "time"), roll)
+    r = response.response_table(ds, 7.0)[0]
+    assert r["case"] == "intact_w060"
+    assert r["roll_rao_first"] == pytest.approx(_roll_rao("intact", 0.6), rel=0.005)
+    assert r["roll_rao"] > 1.1 * r["roll_rao_first"]  # 1.15 at these phases
+    assert r["heave_rao_first"] == pytest.approx(_heave_rao("intact", 0.6), rel=0.005)
+
+
 def test_response_table_uses_each_case_own_period_and_window():
     """With one common period (that of 1 rad/s) the 0.6 rad/s run's window and running
     mean would be wrong: the measure must take each case's own."""
@@ -161,8 +179,11 @@ def test_rao_figure_draws_each_ship_against_omega(tmp_path, monkeypatch):
                                    rtol=0.02)
         marks = [ln for name, ln in lines.items() if "natural frequency" in name]
         assert len(marks) == 1 and list(marks[0].get_xdata()) == [1.059, 1.059]
+        np.testing.assert_allclose(lines["intact, first harmonic"].get_ydata(),
+                                   [rao("intact", w) for w in OMEGAS], rtol=0.01)
     legend = [t.get_text() for t in roll_ax.get_legend().get_texts()]
-    assert legend[:2] == ["intact", "damaged, δ̄ = 10/21 (back side)"]
+    assert legend[:4] == ["intact", "intact, first harmonic", "damaged, δ̄ = 10/21 (back side)",
+                          "damaged, δ̄ = 10/21 (back side), first harmonic"]
     with open(tmp_path / "rao.csv") as fh:
         table = list(csv.DictReader(fh))
     assert len(table) == 2 * len(OMEGAS)

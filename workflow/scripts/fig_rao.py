@@ -2,8 +2,9 @@
 
 Rule ``rao_figure``: the sweep dataset ``snakemake.input.nc`` and ``snakemake.params.t2_periods``
 -> ``snakemake.output.png`` (roll amplitude over the wave slope k A and heave amplitude over
-the wave amplitude A against omega, one line per ship, the intact roll natural frequency
-marked) and ``snakemake.output.csv`` (the table of :func:`sph.study.response.response_table`).
+the wave amplitude A against omega, one line per ship, solid with every harmonic and dotted
+with the first harmonic alone, the intact roll natural frequency marked) and
+``snakemake.output.csv`` (the table of :func:`sph.study.response.response_table`).
 
     python workflow/scripts/fig_rao.py OUT.png OUT.csv SWEEP.nc [T2_PERIODS]
 """
@@ -38,8 +39,10 @@ def main(out_png, out_csv, nc, t2_periods=7.0, title="") -> dict:
     fig, axes = plt.subplots(len(PANELS), 1, figsize=(7.5, 6.4), sharex=True)
     for ax, (name, label) in zip(axes, PANELS, strict=True):
         for ship, curve in lines.items():
-            ax.plot([r["omega"] for r in curve], [r[name] for r in curve], "o-", lw=1.2,
-                    ms=4, label=ship)
+            w = [r["omega"] for r in curve]
+            (line,) = ax.plot(w, [r[name] for r in curve], "o-", lw=1.2, ms=4, label=ship)
+            ax.plot(w, [r[f"{name}_first"] for r in curve], "o:", lw=0.9, ms=3, mfc="none",
+                    color=line.get_color(), label=f"{ship}, first harmonic")
         ax.axvline(INTACT_ROLL_FREQUENCY, color="k", ls="--", lw=0.8,
                    label=f"intact roll natural frequency {INTACT_ROLL_FREQUENCY:g} rad/s")
         ax.axhline(1.0, color="0.6", ls=":", lw=0.8)
