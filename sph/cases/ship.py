@@ -187,6 +187,14 @@ def check(cfg: CaseConfig) -> None:
     masses(cfg)
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
+    wm = g.wavemaker
+    if g.absorber.enabled and wm.file is None and (wm.amplitude or wm.theta0):
+        length = 2.0 * math.pi / wavenumber(wm.omega, g.depth, cfg.fluid.gravity)
+        if g.absorber.length < 0.95 * length:
+            log.warning("the absorbing zone (%g m) is %.2f lengths of the %.4g m wave: part "
+                        "of the wave reflects from the end wall (a zone of one wave length "
+                        "reflects 1-2 %%; sph.study.sweeps.tank_for_wave sizes the tank for "
+                        "a wave)", g.absorber.length, g.absorber.length / length, length)
 
 
 #: an opening narrower than this many particle spacings runs with a warning

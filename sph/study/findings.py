@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sph.study.sweeps import DEFAULT_AMPLITUDE
+from sph.study.sweeps import DEFAULT_AMPLITUDE, DEFAULT_OMEGA, one_wave
 
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
 NEAR_MINIMUM = 0.10
@@ -227,8 +227,8 @@ def fraction_text(x: float, max_den: int = 21) -> str:
 
 
 def case_label(case: Mapping) -> str:
-    """A short label of a case in the paper's notation; the wave amplitude is named when it
-    is not Table I's (A / d = 10/21)."""
+    """A short label of a case in the paper's notation; the wave amplitude and frequency are
+    named when they are not Table I's (A / d = 10/21, omega = 1 rad/s)."""
     if case["opening"] == 0:
         base = "intact"
     else:
@@ -244,6 +244,9 @@ def case_label(case: Mapping) -> str:
         label += ", still water"
     elif abs(amp - DEFAULT_AMPLITUDE) > 1e-9:
         label += f", Ā = {fraction_text(amp)}"
+    omega = float(case.get("omega", DEFAULT_OMEGA))
+    if amp > 0.0 and abs(omega - DEFAULT_OMEGA) > 1e-9:
+        label += f", ω = {omega:g} rad/s"
     return label
 
 
@@ -758,8 +761,12 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         The paper's comparisons (:func:`sph.study.sweeps.groups`).
     t2_periods : float
         Start of the dynamic equilibrium in wave periods.
+
+    The groups' cases are at one wave frequency (:func:`sph.study.sweeps.groups`); in a
+    sweep over wave frequency the findings are measured on them alone
+    (:func:`sph.study.sweeps.one_wave`).
     """
-    s = _Sweep(ds, t2_periods)
+    s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
     sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")

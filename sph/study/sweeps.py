@@ -30,6 +30,16 @@ the wave of the ``damaged_ship`` case, 2.0 m / 4.2 m = 10/21), ``cargo_density``
 cargo; empty: the sweep's ``set`` value of ``geometry.cargo_density``, else the case's 1000)
 and ``description``. Numbers may be written as fractions (``10/21``).
 
+The optional column ``omega`` is the wave frequency (rad/s; default the ``damaged_ship``
+case's, 1.0). Each run lasts the preset's number of wave periods and its damage opens at
+``t1 = 3.18 T`` of its own wave. The tank follows the wave (:func:`tank_for_wave`): the
+built-in tank (ship at 2H = 60 m from the flap, 30 m of open water, then a 60 m absorbing
+zone: 0.49 and 0.98 wave lengths of the built-in wave) is kept for waves no longer than the
+built-in one, and for a longer wave the open water behind the ship and the absorbing zone
+are stretched in proportion to the wave length. :func:`check_waves` refuses a wave that
+breaks (Miche's limit), a wave too long for linear flap theory (Ursell number) and a wave
+height under two particle spacings.
+
 The defaults of the ship (draught, opening, side, fill, wave) are those of the built-in case,
 read from ``sph/cases/damaged_ship.yaml`` (:func:`sph.cases.load_defaults`); the validation
 targets and their runs are the table :data:`sph.study.validation.TARGETS`.
@@ -48,7 +58,9 @@ import numpy as np
 import yaml
 
 from sph import __version__
+from sph.bodies.wavemaker import wavenumber
 from sph.cases import build_case, load_defaults
+from sph.engine.config import Fluid
 from sph.io.output import cf_attrs, read_dataset
 from sph.schema import ConfigError
 from sph.study.validation import TARGETS
@@ -60,6 +72,9 @@ VALIDATION_TARGETS = tuple(TARGETS)
 #: columns of a case table
 CASE_COLUMNS = ("case", "opening", "side", "fill", "amplitude", "cargo_density",
                 "description")
+#: the optional wave-frequency column (rad/s) of a case table
+OMEGA_COLUMN = "omega"
+CASE_COLUMNS = (*CASE_COLUMNS, OMEGA_COLUMN)
 #: the geometry defaults of the ``damaged_ship`` case (sph/cases/damaged_ship.yaml)
 SHIP_DEFAULTS = load_defaults("damaged_ship")["geometry"]
 #: the ship's draught d (m)
@@ -70,6 +85,10 @@ DEFAULT_AMPLITUDE = float(SHIP_DEFAULTS["wavemaker"]["amplitude"]) / DEFAULT_DRA
 DEFAULT_OPENING = float(SHIP_DEFAULTS["damage"]["opening"])
 DEFAULT_SIDE = str(SHIP_DEFAULTS["damage"]["side"])
 DEFAULT_FILL = float(SHIP_DEFAULTS["fill"])
+#: the built-in wave's frequency omega (rad/s), the water depth H (m) and gravity (m/s2)
+DEFAULT_OMEGA = float(SHIP_DEFAULTS["wavemaker"]["omega"])
+DEFAULT_DEPTH = float(SHIP_DEFAULTS["depth"])
+GRAVITY = Fluid().gravity
 #: top-level keys of a sweep configuration
 SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference", "t2_periods",
               "validation", "validation_data", "calibrate_wavemaker")
@@ -88,6 +107,27 @@ PRESET_SECTION_KEYS = {
     "floating_box": {"dx": True, "t_end": True, "output_interval": False, "set": False},
     "dam_break": {"dx": True, "t_end": True, "output_interval": False, "set": False},
 }
+#: the largest wave frequency a case row may ask for (rad/s; a 0.6 s wave)
+OMEGA_MAX = 10.0
+#: Miche's breaking limit of a regular wave: H / lambda at most ``MICHE tanh(k h)``
+#: (Miche 1944)
+MICHE = 0.142
+#: the largest Ursell number ``H lambda^2 / h^3``: the second harmonic of a Stokes wave in
+#: shallow water is ``a2 / a1 = 3 Ur / (32 pi^2)`` of the first, a quarter at ``8 pi^2 / 3``
+#: (26.3); beyond, the wave is a cnoidal one that neither linear flap theory nor the
+#: calibration's sinusoid describes
+URSELL_MAX = 8.0 * math.pi**2 / 3.0
+#: the wave height 2A spans at least this many particle spacings (refused below)
+MIN_HEIGHT_SPACINGS = 2.0
+#: a wave height under this many spacings is resolved poorly (a warning)
+WARN_HEIGHT_SPACINGS = 4.0
+#: an absorbing zone shorter than this many wave lengths is warned about (the built-in
+#: tank's 60 m zone is 0.98 of its wave's 61.4 m; such a zone reflects 1-2 %,
+#: :mod:`sph.engine.absorber`)
+MIN_ABSORBER_WAVELENGTHS = 0.95
+#: the case-file keys of the tank's lengths along x (:func:`tank_for_wave`)
+TANK_KEYS = ("geometry.tank_length", "geometry.ship_x", "geometry.absorber.start",
+             "geometry.absorber.length")
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_-]*$")
 _FRACTION = re.compile(r"^\s*([+-]?\d+(?:\.\d*)?)\s*/\s*(\d+(?:\.\d*)?)\s*$")
 
@@ -171,9 +211,11 @@ def check_cases(rows: Any) -> list[dict]:
 
     Checks: a non-empty list of mappings; only the known columns; an explicit, unique,
     file-name-safe ``case`` id; ``opening`` in [0, 1); ``side`` back or head; ``fill`` in
-    [0, 1); ``amplitude`` in [0, 2]; ``cargo_density`` in [1, 1e5] kg/m3 or empty (None).
-    Each error names the row's key (``cases[k].column``); whether the cargo fits the ship
-    is the engine's check of each run's case file (:func:`check_case_document`).
+    [0, 1); ``amplitude`` in [0, 2]; ``cargo_density`` in [1, 1e5] kg/m3 or empty (None);
+    ``omega`` in (0, 10] rad/s (the checks that need the tank and the resolution are
+    :func:`check_waves`'s). Each error names the row's key (``cases[k].column``); whether
+    the cargo fits the ship is the engine's check of each run's case file
+    (:func:`check_case_document`).
     """
     if not isinstance(rows, list) or not rows:
         raise ConfigError("cases", "expected a non-empty list of cases (or the path of a case "
@@ -211,6 +253,7 @@ def check_cases(rows: Any) -> list[dict]:
             cargo_density=_cargo_density(row.get("cargo_density"), f"{key}.cargo_density"),
             description=str(row.get("description") or ""),
         ))
+        out[-1][OMEGA_COLUMN] = _omega(row.get(OMEGA_COLUMN), f"{key}.{OMEGA_COLUMN}")
     return out
 
 
@@ -219,6 +262,16 @@ def _cargo_density(value: Any, key: str) -> float | None:
     if value is None or (isinstance(value, str) and not value.strip()):
         return None
     return _in_range(parse_number(value, key), key, 1.0, 1.0e5)
+
+
+def _omega(value: Any, key: str) -> float:
+    """The wave frequency of a case row (rad/s): the built-in wave's when left out."""
+    if value in (None, ""):
+        return DEFAULT_OMEGA
+    omega = parse_number(value, key)
+    if not 0.0 < omega <= OMEGA_MAX:
+        raise ConfigError(key, f"must be in (0, {OMEGA_MAX:g}] rad/s; got {omega:g}")
+    return omega
 
 
 # ------------------------------------------------------------------------------ presets
@@ -322,13 +375,14 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
     ref = config.get("reference") or {}
     if not isinstance(ref, Mapping):
         raise ConfigError("reference", f"expected a mapping, got {ref!r}")
-    _check_keys(ref, ("opening", "side", "fill", "amplitude"), "reference")
+    _check_keys(ref, ("opening", "side", "fill", "amplitude", OMEGA_COLUMN), "reference")
     cfg["reference"] = check_cases([dict(case="reference",
                                          opening=ref.get("opening", DEFAULT_OPENING),
                                          side=ref.get("side", DEFAULT_SIDE),
                                          fill=ref.get("fill", DEFAULT_FILL),
                                          amplitude=ref.get("amplitude",
-                                                           DEFAULT_AMPLITUDE))])[0]
+                                                           DEFAULT_AMPLITUDE),
+                                         omega=ref.get(OMEGA_COLUMN))])[0]
     cfg["t2_periods"] = _in_range(parse_number(config.get("t2_periods", 7.0), "t2_periods"),
                                   "t2_periods", 0.0, 1.0e4)
     targets = config.get("validation") or []
@@ -352,6 +406,7 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
     for row in cfg["cases"]:
         if row["cargo_density"] is None:
             row["cargo_density"] = density
+    check_waves(cfg)
     return cfg
 
 
@@ -364,6 +419,117 @@ def wave_key(overrides: Mapping[str, Any]) -> str | None:
         return None
     omega = overrides.get("geometry.wavemaker.omega", SHIP_DEFAULTS["wavemaker"]["omega"])
     return f"A{float(amplitude):g}_w{float(omega):g}"
+
+
+# ------------------------------------------------------------------------------ waves
+def wave_length(omega: float, depth: float, gravity: float = GRAVITY) -> float:
+    """Length (m) of the linear wave of frequency ``omega`` (rad/s) in water of ``depth``
+    (finite-depth dispersion relation, :func:`sph.bodies.wavemaker.wavenumber`)."""
+    return 2.0 * math.pi / wavenumber(omega, depth, gravity)
+
+
+def tank_for_wave(omega: float, depth: float = DEFAULT_DEPTH,
+                  gravity: float = GRAVITY) -> dict[str, float]:
+    """The tank of a ship run in a wave of frequency ``omega``: the case-file values
+    (dotted keys, :data:`TANK_KEYS`) that differ from the built-in tank; none for a wave no
+    longer than the built-in one.
+
+    The built-in tank (``sph/cases/damaged_ship.yaml``) has the ship at 2H = 60 m from the
+    flap, 30 m of open water behind it and a 60 m absorbing zone to the end wall: 0.49 and
+    0.98 lengths of the built-in wave (61.4 m at omega = 1 rad/s, H = 30 m). A longer wave
+    stretches the open water and the zone by the ratio ``s`` of the wave lengths (each
+    rounded up to the metre), so that the zone stays a wave length long (its reflection is
+    then 1-2 %, :mod:`sph.engine.absorber`) and the waves the ship radiates cross half a
+    wave length before they are damped. The ship stays at 2H: the flap's evanescent modes
+    decay over the depth (as ``exp(-pi x / H)``, 0.2 % at 2H), whatever the wave length, and
+    the wavemaker calibration measures the wave there. A shorter wave keeps the built-in
+    tank, whose zone is then longer than it needs to be.
+    """
+    g = SHIP_DEFAULTS
+    scale = wave_length(omega, depth, gravity) / wave_length(DEFAULT_OMEGA, depth, gravity)
+    if scale <= 1.0 + 1e-12:
+        return {}
+    ship_x = float(g["ship_x"])
+    gap = math.ceil(scale * (float(g["absorber"]["start"]) - ship_x) - 1e-9)
+    zone = math.ceil(scale * float(g["absorber"]["length"]) - 1e-9)
+    tail = float(g["tank_length"]) - float(g["absorber"]["start"]) - float(
+        g["absorber"]["length"])
+    start = ship_x + gap
+    return {"geometry.tank_length": start + zone + tail, "geometry.absorber.start": start,
+            "geometry.absorber.length": float(zone)}
+
+
+def check_waves(sweep: Mapping) -> None:
+    """Refuse the waves of a resolved sweep (:func:`load_sweep`) that its ship runs cannot
+    carry. For each case in waves, with its amplitude A, frequency omega, wave length
+    lambda, depth h and the preset's dx:
+
+    - steeper than Miche's breaking limit, ``2A / lambda > 0.142 tanh(k h)``;
+    - an Ursell number ``2A lambda^2 / h^3`` above :data:`URSELL_MAX` (a long wave whose
+      shape is not the sinusoid of linear flap theory);
+    - a wave height 2A under :data:`MIN_HEIGHT_SPACINGS` particle spacings (a warning
+      under :data:`WARN_HEIGHT_SPACINGS`).
+
+    The tank of :func:`tank_for_wave` has an absorbing zone of at least 0.98 wave lengths;
+    a tank that the sweep's ``set`` gives is the user's (the workflow test's is a toy) and
+    a zone shorter than :data:`MIN_ABSORBER_WAVELENGTHS` wave lengths is only warned about.
+
+    Raises
+    ------
+    ConfigError
+        Naming the row's column (``cases[k].omega`` or ``cases[k].amplitude``).
+    """
+    import logging
+
+    preset = sweep.get("preset", "")
+    coarse, short = [], []
+    for k, row in enumerate(sweep["cases"]):
+        over = ship_overrides(row, sweep)
+        amp = over["geometry.wavemaker.amplitude"]
+        if amp is None:  # still water
+            continue
+        omega = float(over.get("geometry.wavemaker.omega", DEFAULT_OMEGA))
+        depth = float(over.get("geometry.depth", DEFAULT_DEPTH))
+        gravity = float(over.get("fluid.gravity", GRAVITY))
+        dx = float(over["numerics.dx"])
+        lam = wave_length(omega, depth, gravity)
+        height = 2.0 * float(amp)
+        wave = (f"the wave of amplitude A = {amp:.4g} m at omega = {omega:g} rad/s (length "
+                f"{lam:.4g} m in {depth:g} m of water)")
+        limit = MICHE * math.tanh(2.0 * math.pi * depth / lam)
+        if height / lam > limit:
+            raise ConfigError(f"cases[{k}].{OMEGA_COLUMN}", f"{wave} is steeper than the "
+                              f"breaking limit: 2A / length = {height / lam:.3g} > 0.142 "
+                              f"tanh(kh) = {limit:.3g} (Miche); use a lower omega or a "
+                              f"smaller amplitude")
+        ursell = height * lam**2 / depth**3
+        if ursell > URSELL_MAX:
+            raise ConfigError(f"cases[{k}].{OMEGA_COLUMN}", f"{wave} has an Ursell number "
+                              f"2A length^2 / h^3 = {ursell:.3g} above {URSELL_MAX:.3g}: a "
+                              f"cnoidal wave, not the sinusoid of linear flap theory; use a "
+                              f"higher omega or a smaller amplitude")
+        if height < MIN_HEIGHT_SPACINGS * dx:
+            raise ConfigError(f"cases[{k}].amplitude", f"{wave}: its height 2A = "
+                              f"{height:.3g} m spans {height / dx:.2g} particle spacings "
+                              f"(dx = {dx:g} m at preset {preset!r}); at least "
+                              f"{MIN_HEIGHT_SPACINGS:g} are needed: use a larger amplitude "
+                              f"(at a fixed steepness kA, a lower omega) or a finer preset")
+        if height < WARN_HEIGHT_SPACINGS * dx:
+            coarse.append(f"{row['case']} ({height / dx:.2g})")
+        zone = float(over.get("geometry.absorber.length",
+                              SHIP_DEFAULTS["absorber"]["length"]))
+        if zone < MIN_ABSORBER_WAVELENGTHS * lam:
+            short.append(f"{row['case']} ({zone / lam:.2f})")
+    log = logging.getLogger(__name__)
+    if coarse:
+        log.warning("wave heights 2A of fewer than %g particle spacings at preset %r (the "
+                    "wave is damped more on its way to the ship; the calibration makes up "
+                    "for it): %s", WARN_HEIGHT_SPACINGS, preset, ", ".join(coarse))
+    if short:
+        log.warning("absorbing zones of the tank the sweep sets shorter than %g wave lengths "
+                    "(part of the wave reflects from the end wall; without the tank in "
+                    "`set`, tank_for_wave sizes it): %s", MIN_ABSORBER_WAVELENGTHS,
+                    ", ".join(short))
 
 
 # ------------------------------------------------------------------------------ case files
@@ -412,7 +578,11 @@ def _wave_period(overrides: Mapping[str, Any]) -> float:
 
 
 def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
-    """Case-file values (dotted keys) of one Table I style run."""
+    """Case-file values (dotted keys) of one Table I style run: the preset's and the
+    sweep's ``set``, then the row's opening, side, fill, wave (``omega`` only where it is
+    not the built-in wave's, so that a Table I case file names no frequency) and the tank
+    for its wave (:func:`tank_for_wave`, unless the sweep sets the tank), and the duration
+    of the preset's number of wave periods."""
     ship = sweep["preset_settings"]["ship"]
     over: dict[str, Any] = {}
     over.update(ship.get("set") or {})
@@ -423,6 +593,12 @@ def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
     over["geometry.fill"] = float(row["fill"])
     if row.get("cargo_density") is not None:
         over["geometry.cargo_density"] = float(row["cargo_density"])
+    omega = float(row.get(OMEGA_COLUMN, DEFAULT_OMEGA))
+    if omega != DEFAULT_OMEGA or "geometry.wavemaker.omega" in over:
+        over["geometry.wavemaker.omega"] = omega
+    if not any(k in over for k in TANK_KEYS):  # a tank the sweep sets is kept as it is
+        over.update(tank_for_wave(omega, float(over.get("geometry.depth", DEFAULT_DEPTH)),
+                                  float(over.get("fluid.gravity", GRAVITY))))
     draught = over.get("geometry.hull.draught", DEFAULT_DRAUGHT)
     amplitude = float(row["amplitude"]) * float(draught)
     if amplitude > 0.0:
@@ -476,10 +652,12 @@ def groups(cases: Sequence[Mapping], reference: Mapping) -> dict[str, list[str]]
     ``opening``: back-side openings at the reference fill and wave, intact included (Figs.
     12-15); ``side``: the reference opening on both sides (Figs. 17-19); ``fill``: the
     reference opening and side at every fill (Figs. 21-23); ``amplitude``: the reference
-    opening, side and fill at every wave amplitude (Fig. 10). A group is listed when it
-    compares at least two cases.
+    opening, side and fill at every wave amplitude (Fig. 10). Every group is at the
+    reference's wave frequency. A group is listed when it compares at least two cases.
     """
     ref = reference
+    cases = [c for c in cases if _close(float(c.get(OMEGA_COLUMN, DEFAULT_OMEGA)),
+                                        float(ref.get(OMEGA_COLUMN, DEFAULT_OMEGA)))]
 
     def match(c, **kw):
         for k, v in kw.items():
@@ -512,7 +690,8 @@ def groups(cases: Sequence[Mapping], reference: Mapping) -> dict[str, list[str]]
 
 # ------------------------------------------------------------------------------ gather
 #: per-run global attributes kept as variables along ``case`` in the sweep dataset
-CASE_SCALARS = ("wall_clock_seconds", "steps", "n_total", "particle_steps_per_second")
+CASE_SCALARS = ("wall_clock_seconds", "steps", "n_total", "particle_steps_per_second",
+                "wave_period", "damage_time")
 #: global attributes that must agree between the runs of a sweep (kept as global attributes)
 SHARED_ATTRS = ("wave_period", "damage_time", "omega", "dx", "draught", "breadth",
                 "hull_depth", "cabin_area", "depth", "kernel", "density_filter")
@@ -532,10 +711,12 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
     Every run must have completed (global attribute ``status``). The time series are
     interpolated linearly onto the nominal output times ``k * run.output_interval`` (a run
     samples at the first step at or after each of them, less than one time step later), so
-    that all cases share one ``time`` coordinate. The case parameters become coordinates
-    along ``case`` (``opening``, ``side``, ``fill``, ``amplitude``), the per-run cost figures
-    and resolved configurations variables along it, and the attributes that the runs share
-    global attributes.
+    that all cases share one ``time`` coordinate: the longest run's; a run that ends sooner
+    (in a sweep over wave frequency each run lasts the same number of its own periods) is
+    NaN after its end. The case parameters become coordinates along ``case`` (``opening``,
+    ``side``, ``fill``, ``amplitude``, ``omega``), the per-run cost figures, wave period,
+    damage time and resolved configurations variables along it, and the attributes that the
+    runs share global attributes (:func:`one_wave` selects the cases of one wave).
     """
     import xarray as xr
 
@@ -553,15 +734,18 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
                              f"{status!r}")
         sets.append(ds)
     grids = [_nominal_times(ds) for ds in sets]
-    grid = min(grids, key=len)
+    grid = max(grids, key=len)
     parts = []
-    for ds, case in zip(sets, cases, strict=True):
+    for ds, case, own in zip(sets, cases, grids, strict=True):
         t = ds["time"].values
-        if t[-1] < grid[-1] - 1e-6 * max(1.0, grid[-1]):
-            raise ValueError(f"case {case['case']!r} ends at t = {t[-1]:g} s, before the "
-                             f"sweep's t_end = {grid[-1]:g} s")
+        tol = 1e-6 * max(1.0, own[-1])
+        if t[-1] < own[-1] - tol:
+            raise ValueError(f"case {case['case']!r} ends at t = {t[-1]:g} s, before its "
+                             f"t_end = {own[-1]:g} s")
         timed = [v for v in ds.data_vars if "time" in ds[v].dims]
         out = ds[timed].interp(time=grid, kwargs={"fill_value": "extrapolate"})
+        if grid[-1] > own[-1] + tol:  # a shorter run: nothing after its end
+            out = out.where(xr.DataArray(grid <= own[-1] + tol, dims="time"))
         for v in timed:
             out[v].attrs = dict(ds[v].attrs)
         out["time"].attrs = dict(ds["time"].attrs)
@@ -589,6 +773,9 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
     for name in ("case", "opening", "side", "fill", "amplitude", "description",
                  "cargo_density"):
         ds[name].attrs = cf_attrs(name)
+    ds = ds.assign_coords({OMEGA_COLUMN: ("case", np.array(
+        [c.get(OMEGA_COLUMN, DEFAULT_OMEGA) for c in cases], dtype=float))})
+    ds[OMEGA_COLUMN].attrs = cf_attrs(OMEGA_COLUMN)
     source = f"sph-flood {__version__}"
     import datetime as _dt
 
@@ -604,6 +791,40 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
     for s in sets:
         s.close()
     return ds
+
+
+def one_wave(ds, cases: Sequence[str] = ()):
+    """The cases ``cases`` of a sweep dataset (default: those at the first case's wave
+    frequency), which must share one wave period, as a dataset of their own: the times
+    after the last of them ends dropped, and their wave period, damage time and frequency
+    as global attributes, as in a sweep at one wave frequency."""
+    cases = list(cases)
+    if not cases:
+        cases = [str(c) for c in ds["case"].values]
+        if OMEGA_COLUMN in ds.coords:
+            first = float(ds[OMEGA_COLUMN].values[0])
+            cases = [c for c, w in zip(cases, ds[OMEGA_COLUMN].values, strict=True)
+                     if _close(float(w), first)]
+    sub = ds.sel(case=cases)
+    attrs = dict(ds.attrs)
+    for name in ("wave_period", "damage_time"):
+        if name not in sub.data_vars:
+            continue
+        values = np.unique(sub[name].values)
+        if len(values) != 1:
+            raise ValueError(f"cases {', '.join(cases)} have different {name}s "
+                             f"{', '.join(f'{v:g}' for v in values)} s")
+        attrs[name] = float(values[0])
+    if "wave_period" in attrs:
+        attrs["omega"] = 2.0 * math.pi / float(attrs["wave_period"])
+    ran = np.zeros(sub.sizes["time"], dtype=bool)
+    for name in ("roll", "heave", "sway"):
+        if name in sub.data_vars:
+            ran |= np.isfinite(sub[name].values).all(axis=0)
+    if ran.any() and not ran[-1]:
+        sub = sub.isel(time=slice(0, int(np.nonzero(ran)[0][-1]) + 1))
+    sub.attrs = attrs
+    return sub
 
 
 def write_case_table(cases: Sequence[Mapping], path: str | Path) -> None:

@@ -302,6 +302,8 @@ def test_case_labels_name_the_wave_when_it_is_not_table_ones():
     labels = [findings.case_label(c) for c in AMP_CASES]
     assert labels[0].endswith("still water") and labels[1].endswith("Ā = 5/21")
     assert findings.case_label(CASES[2]) == "δ̄ = 10/21, η = 0 %"
+    assert findings.case_label(dict(CASES[0], omega=0.6, amplitude=1.139)) == \
+        "intact, η = 0 %, Ā = 1.14, ω = 0.6 rad/s"
 
 
 def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, monkeypatch):

@@ -322,5 +322,191 @@ def test_gather_refuses_a_failed_or_short_run(tmp_path):
     with pytest.raises(ValueError, match="'b'.*did not complete"):
         study.gather([a, b], cases)
     b = _run_file(tmp_path / "b.nc", cases[1], t_end=0.5)
-    ds = study.gather([a, b], cases)  # the shorter run sets the common time axis
-    assert ds.sizes["time"] == 6
+    ds = study.gather([a, b], cases)  # the longer run sets the time axis
+    assert ds.sizes["time"] == 11
+    assert np.isnan(ds["roll"].sel(case="b").values[6:]).all()
+    assert np.isfinite(ds["roll"].sel(case="b").values[:6]).all()
+
+
+# ------------------------------------------------------------------------------ wave frequency
+def _rao_sweep(**changes):
+    cfg = _config()
+    cfg.update(yaml.safe_load((ROOT / "config" / "sweeps" / "roll_rao.yaml").read_text()))
+    cfg.update(changes)
+    return study.load_sweep(cfg, base=ROOT)
+
+
+def test_omega_column_defaults_to_the_built_in_wave():
+    rows = study.check_cases([dict(ROW), dict(ROW, case="b", omega="3/5")])
+    assert rows[0]["omega"] == study.DEFAULT_OMEGA == 1.0
+    assert rows[1]["omega"] == pytest.approx(0.6)
+    over = study.ship_overrides(rows[0], _load())
+    assert "geometry.wavemaker.omega" not in over  # a Table I case file names no frequency
+    assert not any(k in over for k in study.TANK_KEYS)
+
+
+@pytest.mark.parametrize("omega, message", [
+    (0, r"must be in \(0, 10\] rad/s; got 0"),
+    (-0.5, r"must be in \(0, 10\] rad/s"),
+    (12, r"must be in \(0, 10\] rad/s; got 12"),
+    ("fast", "expected a number"),
+])
+def test_bad_omega_names_the_column(omega, message):
+    with pytest.raises(ConfigError, match=message) as err:
+        study.check_cases([dict(ROW), dict(ROW, case="b", omega=omega)])
+    assert err.value.key == "cases[1].omega"
+
+
+@pytest.mark.parametrize("row, changes, key, message", [
+    # A = 2 m at 2 rad/s: k A = 0.82, twice Miche's limit
+    (dict(omega=2.0), {}, "cases[1].omega", "steeper than the breaking limit"),
+    # A = 2.1 m at 0.2 rad/s in 30 m of water: a 528 m long wave, Ursell number 43
+    (dict(omega=0.2, amplitude=0.5), {}, "cases[1].omega",
+     "Ursell number 2A length.2 / h.3 = 43.4 above 26.3"),
+    # A = 0.42 m: a wave height of 1.05 spacings at the coarse dx = 0.8 m
+    (dict(amplitude=0.1), {}, "cases[1].amplitude", "spans 1 particle spacings"),
+])
+def test_waves_the_runs_cannot_carry_are_refused(row, changes, key, message):
+    rows = [dict(ROW), dict(ROW, case="b", **row)]
+    with pytest.raises(ConfigError, match=message) as err:
+        _load(cases=rows, **changes)
+    assert err.value.key == key
+
+
+def test_a_tank_the_sweep_sets_is_kept_and_a_short_zone_warned_about(caplog):
+    import logging
+
+    rows = [dict(ROW), dict(ROW, case="b", omega=0.6, amplitude=1.1)]
+    with caplog.at_level(logging.WARNING, logger="sph.study.sweeps"):
+        s = _load(cases=rows, set={"geometry.tank_length": 150.0})
+    # the built-in 60 m zone is 0.41 of the 147 m wave
+    assert "shorter than 0.95 wave lengths" in caplog.text and "b (0.41)" in caplog.text
+    assert "a (" not in caplog.text
+    over = study.ship_overrides(s["cases"][1], s)
+    assert over["geometry.tank_length"] == 150.0 and "geometry.absorber.start" not in over
+
+
+def test_the_tank_follows_the_wave_length():
+    """The built-in tank for waves up to the built-in one's length; for a longer wave the
+    open water behind the ship and the absorbing zone keep their proportions of the wave
+    length (0.49 and 0.98), the ship stays at 2H from the flap."""
+    g = study.SHIP_DEFAULTS
+    lam0 = study.wave_length(1.0, 30.0)
+    assert lam0 == pytest.approx(61.37, abs=0.01)
+    assert (g["absorber"]["start"] - g["ship_x"]) / lam0 == pytest.approx(0.489, abs=1e-3)
+    assert g["absorber"]["length"] / lam0 == pytest.approx(0.978, abs=1e-3)
+    for omega in (1.0, 1.2, 1.4, 3.0):
+        assert study.tank_for_wave(omega) == {}
+    for omega in (0.95, 0.8, 0.6, 0.4):
+        lam = study.wave_length(omega, 30.0)
+        tank = study.tank_for_wave(omega)
+        start, zone = tank["geometry.absorber.start"], tank["geometry.absorber.length"]
+        assert 0.978 * lam <= zone <= 0.978 * lam + 1.0  # rounded up to the metre
+        assert 0.489 * lam <= start - g["ship_x"] <= 0.489 * lam + 1.0
+        assert tank["geometry.tank_length"] == start + zone
+        assert "geometry.ship_x" not in tank
+    assert study.tank_for_wave(0.6) == {"geometry.tank_length": 276.0,
+                                        "geometry.absorber.start": 132.0,
+                                        "geometry.absorber.length": 144.0}
+    # the engine takes the stretched tank (ship inside, clear of the zone; zone inside)
+    row = study.check_cases([dict(ROW, omega=0.6, amplitude=1.1)])[0]
+    over = study.ship_overrides(row, _load())
+    assert over["geometry.tank_length"] == 276.0
+    assert over["geometry.wavemaker.omega"] == 0.6
+    assert over["run.t_end"] == pytest.approx(12 * 2 * math.pi / 0.6)
+    cfg = study.check_case_document(study.case_document("damaged_ship", over), "w060")
+    assert cfg.geometry.absorber.length == 144.0 and cfg.geometry.ship_x == 60.0
+
+
+def test_roll_rao_sweep_holds_the_wave_slope():
+    """config/sweeps/roll_rao.yaml: the intact ship and the reference damage at the same
+    eleven frequencies from 0.6 to 1.4 rad/s, every wave at the paper's slope kA (A = 2 m
+    at 1 rad/s), one wavemaker calibration per wave, the paper's groups at 1 rad/s."""
+    from sph.bodies.wavemaker import wavenumber
+
+    s = _rao_sweep()
+    cases = s["cases"]
+    assert len(cases) == 22
+    intact = [c for c in cases if c["opening"] == 0]
+    damaged = [c for c in cases if c["opening"] > 0]
+    omegas = [c["omega"] for c in intact]
+    assert omegas == [c["omega"] for c in damaged] == sorted(omegas)
+    assert (omegas[0], omegas[-1], len(omegas)) == (0.6, 1.4, 11)
+    assert all((c["opening"], c["side"], c["fill"]) == (pytest.approx(10 / 21), "back", 0.0)
+               for c in damaged)
+    ka = wavenumber(1.0, 30.0) * 2.0
+    for c in cases:
+        assert wavenumber(c["omega"], 30.0) * c["amplitude"] * 4.2 == pytest.approx(ka,
+                                                                                  rel=2e-5)
+    keys = {study.wave_key(study.ship_overrides(c, s)) for c in cases}
+    assert len(keys) == 11 and "A2_w1" in keys  # Table I's wave, Table I's calibration
+    # the zone at strength 2 in every case: 2.4 % reflection at 0.6 rad/s instead of 6.4 %
+    assert {study.ship_overrides(c, s)["geometry.absorber.strength"] for c in cases} == {2.0}
+    assert study.groups(cases, s["reference"]) == {"opening": ["intact_w100",
+                                                               "damaged_w100"]}
+
+
+def test_groups_are_at_the_reference_wave():
+    rows = study.check_cases([dict(ROW, case="a", opening=0), dict(ROW, case="b"),
+                              dict(ROW, case="c", opening=0, omega=0.8),
+                              dict(ROW, case="d", omega=0.8)])
+    ref = dict(rows[1], case="ref")
+    assert study.groups(rows, ref) == {"opening": ["a", "b"]}
+    assert study.groups(rows, dict(ref, omega=0.8)) == {"opening": ["c", "d"]}
+    s = _load(cases=[dict(r) for r in rows], reference={"omega": 0.8})
+    assert s["reference"]["omega"] == 0.8
+
+
+def test_gather_of_several_waves_keeps_each_run_to_its_end(tmp_path):
+    """Runs of two wave periods: the time axis is the longer run's, the shorter is NaN
+    after its end; the frequency, period and damage time of each case are kept along
+    ``case``, and :func:`one_wave` takes the cases of one wave back out."""
+    cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
+                               dict(case="b", opening=0, side="back", fill=0, omega=0.5)])
+    a = _run_file(tmp_path / "a.nc", cases[0], t_end=1.0)
+    b = _run_file(tmp_path / "b.nc", cases[1], t_end=2.0)
+    ds = xr_open(b)
+    ds.attrs.update(wave_period=12.56, damage_time=4.0)
+    write_netcdf_atomic(ds, b)
+    ds = study.gather([a, b], cases)
+    assert ds.sizes["time"] == 21
+    assert ds["omega"].values.tolist() == [1.0, 0.5]
+    assert ds["omega"].attrs["units"] == "rad s-1"
+    assert ds["wave_period"].values.tolist() == [6.28, 12.56]
+    assert "wave_period" not in ds.attrs and "damage_time" not in ds.attrs
+    assert np.isnan(ds["roll"].sel(case="a").values[11:]).all()
+    assert np.isfinite(ds["roll"].sel(case="b").values).all()
+    one = study.one_wave(ds, ["a"])
+    assert one.sizes["time"] == 11 and one.attrs["wave_period"] == 6.28
+    assert one.attrs["damage_time"] == 2.0
+    assert study.one_wave(ds).sizes["case"] == 1  # default: the first case's wave
+    with pytest.raises(ValueError, match="different wave_periods"):
+        study.one_wave(ds, ["a", "b"])
+
+
+def xr_open(path):
+    from sph.io.output import read_dataset
+
+    ds = read_dataset(path)
+    ds.load()
+    ds.close()
+    return ds
+
+
+
+def test_a_ship_case_warns_of_a_zone_shorter_than_its_wave(caplog):
+    """`sph run` of a ship case in a long wave and the paper's tank warns; the tank of
+    tank_for_wave does not."""
+    import logging
+
+    from sph.cases import builtin
+
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        builtin("damaged_ship", ["geometry.wavemaker.omega=0.6"])
+    assert "absorbing zone (60 m) is 0.41 lengths of the 146.8 m wave" in caplog.text
+    caplog.clear()
+    tank = [f"{k}={v}" for k, v in study.tank_for_wave(0.6).items()]
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        builtin("damaged_ship", ["geometry.wavemaker.omega=0.6", *tank])
+        builtin("damaged_ship")
+    assert "absorbing zone" not in caplog.text

@@ -90,6 +90,7 @@ def test_dry_run_lists_the_table_one_simulations(work):
     for rule in ("gather", "findings", "validation_summary", "overview_figure", "all"):
         assert counts[rule] == 1
     assert counts["ship_figure"] == 10  # Figs. 12-15, 17-19, 21-23; Fig. 10 needs amplitudes
+    assert "rao_figure" not in counts  # one wave frequency: no response over frequency
     # one rule for the validation figures: Fig. 7, the wave profile, sloshing, decay, box, dam
     assert counts["validation_figure"] == 6
     for name in ("fig07_wave_tank", "fig_wave_profile", "fig_sloshing", "fig_decay",
@@ -119,6 +120,25 @@ def test_dry_run_of_the_wave_amplitude_sweep(work):
     assert "results/wave_amplitude/figures/fig10_amplitude.png" in res.stdout
 
 
+def test_dry_run_of_the_roll_rao_sweep(work):
+    """The response over wave frequency: 22 ship runs (intact and damaged at 11 frequencies),
+    one calibration per wave, the response figure, and the paper's figures of the two cases
+    at Table I's wave."""
+    res = _snakemake(work, "-n", "--configfile", "config/sweeps/roll_rao.yaml")
+    assert res.returncode == 0, res.stderr + res.stdout
+    counts = _job_counts(res.stdout)
+    assert counts["simulate_case"] == counts["case_file"] == 22
+    assert counts["calibrate_wavemaker"] == 11
+    assert counts["rao_figure"] == 1 and counts["ship_figure"] == 4  # Figs. 12-15
+    assert "simulate_validation" not in counts
+    for out in ("results/roll_rao/figures/rao.png", "results/roll_rao/rao.csv",
+                "results/roll_rao/calibration/A4.78447_w0.6.json",
+                "results/roll_rao/calibration/A2_w1.json",
+                "results/roll_rao/cases/damaged_w140.nc"):
+        assert out in res.stdout, out
+    assert not (work / "results").exists()
+
+
 def test_dry_run_without_the_calibration(work):
     res = _snakemake(work, "-n", "--config", "calibrate_wavemaker=false")
     assert res.returncode == 0, res.stderr + res.stdout
@@ -144,6 +164,9 @@ BAD = {
     "unknown column": ({"cases": [{"case": "a", "opening": 0.5, "side": "back", "fill": 0,
                                    "speed": 2}]}, "cases[0].speed: unknown key"),
     "unknown preset": ({"preset": "fine"}, "preset: unknown preset 'fine'"),
+    "breaking wave": ({"cases": [{"case": "a", "opening": 0.5, "side": "back", "fill": 0,
+                                  "omega": 2.0}]},
+                      "cases[0].omega: the wave of amplitude A = 2 m at omega = 2 rad/s"),
     "opening above the waterline": (
         {"cases": [{"case": "a", "opening": 0.99, "side": "back", "fill": 0}]},
         "case 'a': geometry.damage.opening"),

@@ -15,6 +15,7 @@ from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from sph.study import sweeps as study
+from sph.study.response import varies_omega
 from sph.study.analysis import validation_data_dir
 from sph.study.validation import TARGETS
 from sph.schema import ConfigError
@@ -126,6 +127,14 @@ def ship_figures():
     return [name for name, (group, _) in SHIP_FIGURES.items() if group in GROUPS]
 
 
+def rao_outputs():
+    """The response over wave frequency (figure and table), for a sweep that runs the ship
+    at two or more wave frequencies."""
+    if not varies_omega(SWEEP_CFG["cases"]):
+        return []
+    return [f"{sweep_dir()}/figures/rao.png", f"{sweep_dir()}/rao.csv"]
+
+
 def validation_figures():
     return [name for name, (target, _) in VALIDATION_FIGURES.items() if target in VALIDATION]
 
@@ -208,6 +217,7 @@ def all_targets():
     ]
     out += [f"{sweep_dir()}/figures/{name}.png" for name in ship_figures()]
     out += [f"{sweep_dir()}/figures/overview.png"]
+    out += rao_outputs()
     if VALIDATION:
         out += [f"{validation_dir()}/validation.html"]
         out += [f"{validation_dir()}/figures/{name}.png" for name in validation_figures()]

@@ -1,5 +1,6 @@
 # The paper's figures (Figs. 10, 12-15, 17-19, 21-23) drawn from the sweep dataset, each for
-# the group of cases the paper compares; an overview of every case.
+# the group of cases the paper compares; an overview of every case; and, for a sweep over wave
+# frequency, the ship's roll and heave response against omega.
 
 
 rule ship_figure:
@@ -46,3 +47,26 @@ rule overview_figure:
         "results/{sweep}/logs/figures/overview.log",
     script:
         "../scripts/fig_ship.py"
+
+
+rule rao_figure:
+    # roll amplitude / kA and heave amplitude / A against omega (sph/study/response.py); only
+    # for sweeps that vary omega (rao_outputs in common.smk)
+    input:
+        nc="results/{sweep}/{sweep}.nc",
+    output:
+        png=report(
+            "results/{sweep}/figures/rao.png",
+            caption="../report/rao_figure.rst",
+            category="Sweep {sweep}",
+            labels={"group": "wave frequency", "figure": "rao"},
+        ),
+        csv="results/{sweep}/rao.csv",
+    params:
+        t2_periods=SWEEP_CFG["t2_periods"],
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/figures/rao.log",
+    script:
+        "../scripts/fig_rao.py"

@@ -5,7 +5,8 @@ cases ``snakemake.params.cases`` and the series ``snakemake.params.series`` (dat
 variables, or the body-fixed probes ``W1``, cargo cabin, and ``W2``, damaged cabin) ->
 ``snakemake.output.png``. One panel per series, one line per case; with the group ``fill``
 and probe series (Fig. 22), one panel per case with both probes, as the paper draws it.
-Vertical lines: the damage time t1 and the start of the dynamic equilibrium t2.
+Vertical lines: the damage time t1 and the start of the dynamic equilibrium t2. Each case
+is drawn against its own t/T (in a sweep over wave frequency the cases' periods differ).
 
     python workflow/scripts/fig_ship.py OUT.png SWEEP.nc roll,heave [CASE ...]
 """
@@ -43,16 +44,27 @@ def _series(ds, case, name):
 
 def _case(ds, case):
     c = ds.sel(case=case)
-    return dict(case=case, opening=float(c["opening"]), side=str(c["side"].values),
-                fill=float(c["fill"]), amplitude=float(c["amplitude"]))
+    out = dict(case=case, opening=float(c["opening"]), side=str(c["side"].values),
+               fill=float(c["fill"]), amplitude=float(c["amplitude"]))
+    if "omega" in c.coords:
+        out["omega"] = float(c["omega"])
+    return out
+
+
+def _wave(ds, case):
+    """The wave period (s) of a case and its damage time t1 / T (each case its own in a
+    sweep over wave frequency)."""
+    if "wave_period" in ds.data_vars:
+        period = float(ds["wave_period"].sel(case=case))
+        return period, float(ds["damage_time"].sel(case=case)) / period
+    period = float(ds.attrs["wave_period"])
+    return period, float(ds.attrs["damage_time"]) / period
 
 
 def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> None:
     ds = read_dataset(nc)
     cases = list(cases or ds["case"].values)
-    period = float(ds.attrs["wave_period"])
-    t1 = float(ds.attrs["damage_time"]) / period
-    tt = ds["time"].values / period
+    t1 = _wave(ds, cases[0])[1]
     probes_per_case = group == "fill" and all(s in ("W1", "W2") for s in series)
     if probes_per_case:
         panels = [(c, list(series)) for c in cases]
@@ -67,7 +79,8 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
             if group == "amplitude" and not probes_per_case:
                 amp = float(ds["amplitude"].sel(case=case))
                 label = f"A/d = {fraction_text(amp)}" if amp > 0 else "still water"
-            ax.plot(tt, _series(ds, case, name), lw=1.0, label=label)
+            ax.plot(ds["time"].values / _wave(ds, case)[0], _series(ds, case, name), lw=1.0,
+                    label=label)
         ax.axvline(t1, color="k", ls="--", lw=0.8)
         if t2_periods is not None:
             ax.axvline(t2_periods, color="0.5", ls=":", lw=0.8)

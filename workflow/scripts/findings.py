@@ -9,6 +9,7 @@ import logging
 
 from sph.io.output import read_dataset
 from sph.study.findings import compute_findings, departures, findings_html, findings_table
+from sph.study.sweeps import one_wave
 
 
 def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
@@ -19,6 +20,8 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+    # the findings' cases, at one wave (a sweep over wave frequency has several)
+    ds = one_wave(ds, sorted({c for g in groups.values() for c in g}))
     period = float(ds.attrs["wave_period"])
     note = (f"Sweep '{ds.attrs.get('sweep', '')}' at preset '{ds.attrs.get('preset', '')}' "
             f"(dx = {ds.attrs.get('dx', float('nan')):g} m), runs to t/T = "
