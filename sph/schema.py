@@ -144,7 +144,7 @@ def _convert(key, value, tp, meta):
     origin = get_origin(tp)
     if origin is list:
         (item_tp,) = get_args(tp)
-        if not isinstance(value, list):
+        if not isinstance(value, (list, tuple)):  # a tuple: a built configuration's own
             raise ConfigError(key, f"expected a list, got {show(value)}")
         return tuple(_convert(f"{key}[{i}]", v, item_tp, meta) for i, v in enumerate(value))
     if origin is not None and type(None) in get_args(tp):  # Optional[X]
