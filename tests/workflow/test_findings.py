@@ -306,28 +306,13 @@ def test_case_labels_name_the_wave_when_it_is_not_table_ones():
         "intact, η = 0 %, Ā = 1.14, ω = 0.6 rad/s"
 
 
-def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, monkeypatch):
+def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, figure_script):
     """The Fig. 10 analogue (workflow/scripts/fig_ship.py) from the amplitude sweep: three
     panels (roll, heave, Q/V), one line per case, labelled by the wave amplitude."""
-    import importlib.util
-    from pathlib import Path
-
-    import matplotlib.pyplot as plt
-
-    script = Path(__file__).resolve().parents[2] / "workflow" / "scripts" / "fig_ship.py"
-    spec = importlib.util.spec_from_file_location("fig_ship", script)
-    fig_ship = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(fig_ship)
+    load, drawn = figure_script
+    fig_ship = load("fig_ship")
     nc = tmp_path / "wave_amplitude.nc"
     _sweep(_amplitude_like(), cases=AMP_CASES).to_netcdf(nc)
-    drawn = {}
-    savefig = plt.Figure.savefig
-
-    def keep(fig, out, **kw):
-        drawn["axes"] = fig.axes
-        return savefig(fig, out, **kw)
-
-    monkeypatch.setattr(plt.Figure, "savefig", keep)
     fig_ship.main(tmp_path / "fig10.png", nc, ["roll", "heave", "flood_ratio"],
                   AMP_GROUPS["amplitude"], "amplitude", 7.0)
     assert (tmp_path / "fig10.png").stat().st_size > 10_000

@@ -4,9 +4,7 @@
 from __future__ import annotations
 
 import csv
-import importlib.util
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,7 +14,6 @@ from sph.bodies.wavemaker import wavenumber
 from sph.study import response
 from sph.study import sweeps as study
 
-ROOT = Path(__file__).resolve().parents[2]
 OMEGAS = (0.6, 0.8, 1.0, 1.2)
 DRAUGHT, DEPTH = 4.2, 30.0
 
@@ -146,25 +143,13 @@ def test_curves_are_one_per_ship_sorted_by_omega():
          dict(case="b", opening=0, side="back", fill=0, omega=0.8, amplitude=0)]))
 
 
-def test_rao_figure_draws_each_ship_against_omega(tmp_path, monkeypatch):
+def test_rao_figure_draws_each_ship_against_omega(tmp_path, figure_script):
     """workflow/scripts/fig_rao.py: two panels (roll / kA, heave / A), one line per ship
     through its RAOs, the intact roll natural frequency marked; the table as CSV."""
-    import matplotlib.pyplot as plt
-
-    spec = importlib.util.spec_from_file_location(
-        "fig_rao", ROOT / "workflow" / "scripts" / "fig_rao.py")
-    fig_rao = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(fig_rao)
+    load, drawn = figure_script
+    fig_rao = load("fig_rao")
     nc = tmp_path / "rao.nc"
     _dataset().to_netcdf(nc)
-    drawn = {}
-    savefig = plt.Figure.savefig
-
-    def keep(fig, out, **kw):
-        drawn["axes"] = fig.axes
-        return savefig(fig, out, **kw)
-
-    monkeypatch.setattr(plt.Figure, "savefig", keep)
     fig_rao.main(tmp_path / "rao.png", tmp_path / "rao.csv", nc, 7.0)
     assert (tmp_path / "rao.png").stat().st_size > 10_000
     roll_ax, heave_ax = drawn["axes"]
