@@ -75,9 +75,15 @@ class Particles:
 
     def take(self, keep: np.ndarray) -> Particles:
         """A new set holding the particles where ``keep`` is True (order kept)."""
-        out = Particles.__new__(Particles)
-        out.f = np.ascontiguousarray(self.f[:, keep])
-        out.i = np.ascontiguousarray(self.i[:, keep])
+        return Particles.of_columns(self.f[:, keep], self.i[:, keep])
+
+    @classmethod
+    def of_columns(cls, f: np.ndarray, i: np.ndarray) -> Particles:
+        """A set holding the float and integer columns ``f``, ``i`` (rows as
+        :data:`FLOAT_FIELDS` and :data:`INT_FIELDS`), copied to contiguous arrays."""
+        out = cls.__new__(cls)
+        out.f = np.ascontiguousarray(f)
+        out.i = np.ascontiguousarray(i)
         out._f_buf = np.empty_like(out.f)
         out._i_buf = np.empty_like(out.i)
         return out

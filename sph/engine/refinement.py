@@ -80,20 +80,22 @@ def level_at(x, z, boxes, pad):
     return best
 
 
-@njit(**JIT)
-def _levels(x, z, kind, hs, boxes, dx, pad, fluid_only):
+def _levels(parts: Particles, boxes, dx, pad, fluid_only):
     """Target level of every particle (``pad``: :func:`level_at`, in spacings ``dx``) and
-    its own level (from ``hs``); walls get their own level when ``fluid_only``."""
-    n = x.shape[0]
-    target = np.empty(n, dtype=np.int64)
-    own = np.empty(n, dtype=np.int64)
-    for i in range(n):
-        own[i] = int(round(-np.log2(hs[i])))
+    its own level (:func:`levels`); walls get their own level when ``fluid_only``."""
+    own = levels(parts.hs)
+    return _targets(parts.x, parts.z, parts.kind, own, boxes, pad * dx, fluid_only), own
+
+
+@njit(**JIT)
+def _targets(x, z, kind, own, boxes, pad, fluid_only):
+    target = np.empty(x.shape[0], dtype=np.int32)
+    for i in range(x.shape[0]):
         if fluid_only and kind[i] != FLUID:
             target[i] = own[i]
         else:
-            target[i] = level_at(x[i], z[i], boxes, pad * dx)
-    return target, own
+            target[i] = level_at(x[i], z[i], boxes, pad)
+    return target
 
 
 def split(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
@@ -107,8 +109,7 @@ def split(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
     copied density would leave a pressure error of :math:`\rho g \Delta x_l / 4`)."""
     n_split = 0
     while True:
-        target, own = _levels(parts.x, parts.z, parts.kind, parts.hs, boxes, dx, 0.0,
-                              fluid_only)
+        target, own = _levels(parts, boxes, dx, 0.0, fluid_only)
         sel = np.nonzero(target > own)[0]
         if len(sel) == 0:
             return parts, n_split
@@ -148,12 +149,8 @@ def _replace(parts: Particles, remove: np.ndarray, add: tuple[np.ndarray, np.nda
     keep = np.ones(parts.n, dtype=bool)
     keep[remove] = False
     f, i = add
-    out = Particles.__new__(Particles)
-    out.f = np.ascontiguousarray(np.concatenate([parts.f[:, keep], f], axis=1))
-    out.i = np.ascontiguousarray(np.concatenate([parts.i[:, keep], i], axis=1))
-    out._f_buf = np.empty_like(out.f)
-    out._i_buf = np.empty_like(out.i)
-    return out
+    return Particles.of_columns(np.concatenate([parts.f[:, keep], f], axis=1),
+                                np.concatenate([parts.i[:, keep], i], axis=1))
 
 
 @njit(**JIT)
@@ -211,8 +208,7 @@ def merge(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, in
     """Merge the fluid particles that lie outside the boxes of their level (beyond the
     margin), four into one. Returns the new set (``parts`` itself when nothing merged) and
     the number of merged groups."""
-    target, own = _levels(parts.x, parts.z, parts.kind, parts.hs, boxes, dx, MERGE_MARGIN,
-                          True)
+    target, own = _levels(parts, boxes, dx, MERGE_MARGIN, True)
     cand = np.nonzero((target < own) & (parts.kind == FLUID))[0]
     if len(cand) < 4:
         return parts, 0

@@ -192,6 +192,11 @@ class Stepper:
     def b(self) -> float:
         return self.scales.b
 
+    def _hs(self, parts):
+        """The smoothing length ratios the wall and list loops take: None at uniform
+        resolution, so that they are compiled without them."""
+        return parts.hs if self.variable else None
+
     def _refine_initial(self) -> None:
         """Split the fluid and the fixed walls inside the refinement boxes down to their
         level; a box must overlap the domain and hold no moving wall."""
@@ -256,7 +261,7 @@ class Stepper:
         g = self.grid
         fl = self.cfg.fluid
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
-        hs = p.hs if self.variable else None  # the loops compiled for None: no scale
+        hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end)
@@ -301,7 +306,7 @@ class Stepper:
         p.permute(g.order)
         p.x_sort[:] = p.x
         p.z_sort[:] = p.z
-        nl.build(p.x, p.z, p.kind, g, self.list_radius, p.hs if self.variable else None)
+        nl.build(p.x, p.z, p.kind, g, self.list_radius, self._hs(p))
         self._refresh_inner()
         self._listed = p
 
@@ -309,7 +314,7 @@ class Stepper:
         p = self.parts
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
-        self.nlist.refresh(p.x, p.z, self.inner_radius, p.hs if self.variable else None)
+        self.nlist.refresh(p.x, p.z, self.inner_radius, self._hs(p))
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -502,7 +507,7 @@ class Stepper:
         n_out = self.grid.sort(parts.x_sort, parts.z_sort)
         if n_out or not np.array_equal(self.grid.order, np.arange(parts.n)):
             raise StateMismatch("particles are not in cell order")
-        hs = parts.hs if self.variable else None
+        hs = self._hs(parts)
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius,
                          hs)
         self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, hs)

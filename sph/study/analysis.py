@@ -58,6 +58,24 @@ def zero_crossing_period(t, y) -> float:
     return float((tc[-1] - tc[0]) / (len(tc) - 1))
 
 
+def multistart_fit(model, t, y, starts, **kwargs):
+    """The parameters of ``model`` fitted to ``(t, y)`` by :func:`scipy.optimize.curve_fit`
+    from each start in ``starts`` (keyword arguments passed on), those of least squared
+    residual; None when no start converges."""
+    from scipy.optimize import curve_fit
+
+    best = None
+    for p0 in starts:
+        try:
+            popt, _ = curve_fit(model, t, y, p0=p0, **kwargs)
+        except RuntimeError:
+            continue
+        res = float(np.sum((model(t, *popt) - y) ** 2))
+        if best is None or res < best[0]:
+            best = (res, popt)
+    return None if best is None else best[1]
+
+
 def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
     """Angular frequency (rad/s) and damping ratio of a decaying oscillation.
 
@@ -65,8 +83,6 @@ def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
     least squares) to the samples after ``t_start``, starting from the zero-crossing period.
     Returns the damped frequency :math:`\\omega_d` and :math:`\\zeta`.
     """
-    from scipy.optimize import curve_fit
-
     t = np.asarray(t, dtype=float)
     y = np.asarray(y, dtype=float)
     sel = t >= t_start
@@ -78,18 +94,11 @@ def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
     def model(tt, c, a, w, zeta, phi):
         return c + a * np.exp(-zeta * w * tt) * np.sin(w * tt + phi)
 
-    best = None
-    for phi0 in np.linspace(0, 2 * math.pi, 8, endpoint=False):
-        try:
-            popt, _ = curve_fit(model, t, y, p0=[c0, a0, w0, 0.01, phi0], maxfev=5000)
-        except RuntimeError:
-            continue
-        res = float(np.sum((model(t, *popt) - y) ** 2))
-        if best is None or res < best[0]:
-            best = (res, popt)
-    if best is None:
+    popt = multistart_fit(model, t, y, [[c0, a0, w0, 0.01, phi0] for phi0 in
+                                        np.linspace(0, 2 * math.pi, 8, endpoint=False)],
+                          maxfev=5000)
+    if popt is None:
         return w0, float("nan")
-    _, popt = best
     return abs(float(popt[2])), float(popt[3])
 
 

@@ -23,7 +23,7 @@ from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
 from sph.engine.opening import sdf_many
-from sph.study.analysis import oscillation_frequency
+from sph.study.analysis import multistart_fit, oscillation_frequency
 
 DX = 0.8
 STILL_SMALL_TANK = [
@@ -196,7 +196,6 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
     fit :math:`c + \\sum_j a_j e^{-\\zeta_j\\omega_j t}\\cos(\\omega_j t + \\varphi_j)`, started
     from the coupled roll-sloshing estimate (:func:`sph.bodies.cargo.roll_modes`, the sea's
     added inertia from the empty ship's 1.06 rad/s), over the first ``t_fit`` seconds."""
-    from scipy.optimize import curve_fit
 
     from sph.bodies.cargo import cargo_section, mass_properties, roll_modes
 
@@ -215,19 +214,10 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
     slosh = est["sloshing"]
     lower = [-np.inf, 0.0, 0.1, 0.0, -np.inf, 0.0, 0.8 * slosh, 0.0, -np.inf]
     upper = [np.inf, np.inf, slosh, 1.0, np.inf, np.inf, 3.0 * slosh, 1.0, np.inf]
-    best = None
-    for p1 in np.linspace(0.0, 2.0 * np.pi, 4, endpoint=False):
-        for p2 in np.linspace(0.0, 2.0 * np.pi, 4, endpoint=False):
-            try:
-                popt, _ = curve_fit(model, t, y, p0=[0.0, 2.5, est["omega"][0], 0.05, p1, 2.5,
-                                                    est["omega"][1], 0.05, p2],
-                                    bounds=(lower, upper), maxfev=20000)
-            except RuntimeError:
-                continue
-            res = float(np.sum((model(t, *popt) - y) ** 2))
-            if best is None or res < best[0]:
-                best = (res, popt)
-    p = best[1]
+    phases = np.linspace(0.0, 2.0 * np.pi, 4, endpoint=False)
+    p = multistart_fit(model, t, y, [[0.0, 2.5, est["omega"][0], 0.05, p1, 2.5, est["omega"][1],
+                                      0.05, p2] for p1 in phases for p2 in phases],
+                       bounds=(lower, upper), maxfev=20000)
     low, high = (p[2], p[3]), (p[6], p[7])
     return dict(low=low, high=high, estimate=est, gm_fluid=mp.gm_fluid)
 
