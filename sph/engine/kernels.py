@@ -143,13 +143,13 @@ def f_r2(r2, kp):
 
 @njit(inline="always", **JIT)
 def pair_scale(hs, i, j):
-    """Smoothing length of the pair ``(i, j)`` over the case's ``h``: the mean of the
-    particles' own ratios ``hs`` (exact for the powers of two of the refinement levels);
-    1 when ``hs`` is None (uniform resolution: a loop compiled for None has no trace of
-    it)."""
+    """Smoothing length of the pair ``(i, j)`` over the case's ``h``: the particles' own
+    ratio ``hs`` when they are of one refinement level, 0 (no pair: every loop tests
+    ``r2 < r2max s^2``) when they are not (:mod:`sph.engine.refinement`); 1 when ``hs`` is
+    None (uniform resolution: a loop compiled for None has no trace of it)."""
     if hs is None:
         return 1.0
-    return 0.5 * (hs[i] + hs[j])
+    return hs[i] if hs[i] == hs[j] else 0.0
 
 
 @njit(inline="always", **JIT)

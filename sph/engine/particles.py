@@ -14,6 +14,9 @@ from sph.engine.jit import JIT_PARALLEL, njit
 
 FLUID = 0
 WALL = 1
+#: the field ``body`` of a ghost fluid particle of a refinement level (it carries no mass;
+#: :mod:`sph.engine.refinement`); an active fluid particle has -1
+GHOST = -2
 
 #: float fields, in row order
 FLOAT_FIELDS = (
@@ -30,7 +33,7 @@ FLOAT_FIELDS = (
 #: integer fields
 INT_FIELDS = (
     "kind",  # FLUID or WALL
-    "body",  # wall particles: motion group (0 = fixed tank); fluid: -1
+    "body",  # wall particles: motion group (0 = fixed tank); fluid: -1, GHOST for a ghost
     "comp",  # compartment: a pair interacts only when compartments match
     "pid",  # original index, stable across sorting
 )

@@ -1,4 +1,5 @@
-r"""Variable resolution: boxes of finer particles, split on the way in, merged on the way out.
+r"""Variable resolution: boxes of finer particles coupled to the coarser ones through
+overlapping buffers of ghost particles (adaptive particle refinement).
 
 The case file's ``numerics.refinement`` lists boxes, each of a level ``l`` from 1 to
 :data:`sph.engine.config.MAX_LEVEL`; a particle of level ``l`` has the spacing
@@ -7,54 +8,75 @@ The case file's ``numerics.refinement`` lists boxes, each of a level ``l`` from 
 ``l > 1`` lies inside one of level ``l - 1``, so that the spacing changes by a ratio of two
 across every level boundary.
 
-**Pairs of different sizes** take the mean smoothing length :math:`h_{ij} = (h_i + h_j)/2`
-(:func:`sph.engine.kernels.pair_scale`), in every pair loop of the engine, so that
-:math:`\nabla_i W_{ij} = -\nabla_j W_{ji}` and the pressure and viscous forces of a pair stay
-equal and opposite: momentum is conserved across level boundaries as within a level
-(Vacondio et al. 2013, Sec. 2; Barcarolo et al. 2014, Sec. 3). The time step is global,
-set by the finest level.
+**Each level sees only its own size** (Barcarolo et al. 2014; Chiron et al. 2018, J. Comput.
+Phys. 354, Secs. 2-3). Pairs of different levels do not interact
+(:func:`sph.engine.kernels.pair_scale` is zero for them), so every kernel sum is taken
+over a lattice of one spacing, as at uniform resolution. A first attempt let pairs of
+different sizes interact with the mean smoothing length (Vacondio et al. 2013): the
+zeroth-order consistency :math:`h\,|\sum_j V_j \nabla W_{ij}|` of the lattice, zero in a
+uniform one, reached 0.22 at the boundary, a spurious force of several m/s^2 at 1 m depth,
+and a still tank did not settle. Here the fluid of level ``l`` is *active* (it carries the
+mass and is integrated) inside the region of level ``l`` (its boxes less those of a finer
+level) and a *ghost* around it:
 
-**Splitting** (Feldman & Bonet 2007; Barcarolo et al. 2014, the square pattern of ratio 2):
-a particle whose position lies in a box of a level above its own is replaced by four
-children of a quarter of its mass at :math:`\pm\Delta x_l/4` along both axes, with its
-velocity, density and pressure. Mass, momentum and centre of mass are kept exactly, and a
-lattice of spacing :math:`\Delta x_l` becomes one of spacing :math:`\Delta x_l/2`: the initial
-refinement of a case built at ``numerics.dx`` (fluid and fixed walls alike, so that walls are
-as fine as the fluid beside them) is the exact fine lattice.
+- inside a finer box, where the coarser particles are kept as ghosts (the inactive mother
+  particles of Chiron et al.), so that an active coarse particle near the boundary finds
+  a complete coarse lattice within its support;
+- in a buffer around its own boxes, :data:`BUFFER` spacings wide (the kernel support and
+  the lists' skin, plus one spacing), where the fine ghosts (passive children) complete
+  the fine lattice of the active fine particles near the boundary.
 
-**Merging** (coalescing; Vacondio et al. 2013, Sec. 3.2, in groups of four so that a merged
-particle is again of the coarser level): a fluid particle of level ``l`` that lies farther
-than one spacing of level ``l - 1`` outside every box of level ``l`` (the hysteresis that
-keeps a particle at the boundary from splitting and merging over and over) is a candidate.
-Candidates of one level and one compartment are grouped four by four, each with the three
-others within :math:`1.5\,\Delta x_l` that make the most compact group (least second moment
-about their centroid), in index order; a candidate that finds no three partners stays fine
-until more arrive. A group becomes one particle at its centre of mass with the total mass,
-the velocity of the total momentum (kept to round-off), and the density that keeps the
-group's volume, :math:`\rho = \sum m_k / \sum (m_k/\rho_k)`.
+A ghost's density and velocity are interpolated every step from the active particles
+around it, of every level, by a first-order moving least squares fit with each source's
+own kernel (:func:`ghost_fields`: exact for a linear field, so a fluid at rest keeps its
+hydrostatic pressure across a boundary); its pressure follows from the equation of state.
+A ghost moves with its interpolated velocity; it exerts pressure and viscous forces on the
+active particles of its level, and nothing acts back on it. Ghosts are kept out of the
+mass, the energies, the probes and the forces on bodies (the particle field ``body`` of a
+ghost is :data:`sph.engine.particles.GHOST`).
 
-The checks run when the neighbour lists are rebuilt (:mod:`sph.engine.neighbours`: no
+**Change of state** (:func:`assign`), from the position alone: a fluid particle is active
+in its level's region, a ghost inside a finer box or in its buffer, and is removed beyond
+the buffer (only ghosts reach it). **Children** (:func:`spawn`): a particle of level ``l``
+inside the buffered box of a finer level, with no particle of level ``l + 1`` within half
+its spacing, gets four children of a quarter of its mass at :math:`\pm\Delta x_l/4` along
+both axes (the square pattern of Feldman & Bonet 2007; Barcarolo et al. 2014), with its
+velocity and its density corrected hydrostatically; it keeps existing. The active mass is
+then the coarse particles' outside the box and the fine particles' inside: a particle
+crossing a level boundary hands its mass to the other level's particles at that place,
+which carry the same mass to within the lattice's discreteness; the mass held by the
+active particles fluctuates by a fraction of a coarse particle's mass per particle
+crossing (``fluid_mass`` in the output) and is kept exactly while no particle crosses.
+Fixed walls are built the same way at the initial refinement: their coarse layers are kept
+everywhere and fine ones added within the buffered box, so that the walls of every level
+are as fine as the fluid beside them.
+
+The changes are made when the neighbour lists are rebuilt (:mod:`sph.engine.neighbours`: no
 particle has then moved more than half the lists' skin, a fraction of a fine spacing, since
-the previous ones), so that splitting and merging cost nothing between rebuilds and a run
-restarted from a checkpoint splits and merges exactly as the uninterrupted one.
-
-Not done here: per-level time steps (Chiron et al. 2018) and the overlapping buffer of
-Chiron et al. (2018) that interpolates the coarse and fine fields across the boundary.
+the previous ones), so that they cost nothing between rebuilds and a run restarted from a
+checkpoint continues exactly as the uninterrupted one. The time step is global, set by the
+finest level; per-level time steps (Chiron et al. 2018, Sec. 4) are not done.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import prange
+from scipy.spatial import cKDTree
 
-from sph.engine.jit import JIT, njit
-from sph.engine.particles import _FI, _II, FLUID, Particles
+from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.kernels import KP_R2MAX, w_scaled
+from sph.engine.opening import sees
+from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
 
 #: columns of the packed boxes (:func:`pack_boxes`)
 BX_XMIN, BX_XMAX, BX_ZMIN, BX_ZMAX, BX_LEVEL = range(5)
-#: merge candidates search their partners within this many spacings of their level
-MERGE_RADIUS = 1.5
-#: a particle merges only this many spacings of the coarser level outside its level's boxes
-MERGE_MARGIN = 1.0
+#: width of the buffer of ghosts around a box, in its level's spacings: the kernel
+#: support (3 h = 3.7 spacings for the Gaussian) with the lists' skin, plus one spacing
+BUFFER = 5.5
+#: a particle gets children when no particle of the finer level lies within this many
+#: of its own spacings (a fine lattice has one within 0.35)
+COVER = 0.5
 
 
 def pack_boxes(boxes) -> np.ndarray:
@@ -67,54 +89,64 @@ def pack_boxes(boxes) -> np.ndarray:
 
 @njit(**JIT)
 def level_at(x, z, boxes, pad):
-    """Finest level of the boxes containing ``(x, z)``, each grown by ``pad`` times
-    ``2^(1 - level)`` (0 outside every box): with ``pad = c dx``, by ``c`` spacings of the
-    level below its own."""
+    """Finest level of the boxes containing ``(x, z)``, each grown by ``pad`` spacings of
+    its own level, ``pad dx 2^-level`` with ``pad`` in metres at level 0 (0 outside every
+    box)."""
     best = 0
     for k in range(boxes.shape[0]):
         lev = boxes[k, BX_LEVEL]
-        g = pad * 2.0 ** (1.0 - lev)
+        g = pad * 2.0 ** (-lev)
         if (boxes[k, BX_XMIN] - g <= x <= boxes[k, BX_XMAX] + g
                 and boxes[k, BX_ZMIN] - g <= z <= boxes[k, BX_ZMAX] + g):
             best = max(best, int(lev))
     return best
 
 
-def _levels(parts: Particles, boxes, dx, pad, fluid_only):
-    """Target level of every particle (``pad``: :func:`level_at`, in spacings ``dx``) and
-    its own level (:func:`levels`); walls get their own level when ``fluid_only``."""
-    own = levels(parts.hs)
-    return _targets(parts.x, parts.z, parts.kind, own, boxes, pad * dx, fluid_only), own
-
-
 @njit(**JIT)
-def _targets(x, z, kind, own, boxes, pad, fluid_only):
-    target = np.empty(x.shape[0], dtype=np.int32)
+def _targets(x, z, boxes, pad):
+    """Level of the region (``pad = 0``) or of the buffered box (``pad``) at each point."""
+    out = np.empty(x.shape[0], dtype=np.int32)
     for i in range(x.shape[0]):
-        if fluid_only and kind[i] != FLUID:
-            target[i] = own[i]
-        else:
-            target[i] = level_at(x[i], z[i], boxes, pad)
-    return target
+        out[i] = level_at(x[i], z[i], boxes, pad)
+    return out
 
 
-def split(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
+def _keys(parts: Particles, idx: np.ndarray) -> np.ndarray:
+    """Points for the coverage search: position, and a third coordinate that sets apart the
+    particles of another kind or compartment (a thin wall's two sides)."""
+    sep = 1.0e7 * (parts.kind[idx].astype(np.float64) * 65536.0 + parts.comp[idx])
+    return np.column_stack([parts.x[idx], parts.z[idx], sep])
+
+
+def spawn(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
           fluid_only: bool = True) -> tuple[Particles, int]:
-    r"""Split every particle that lies in a box of a finer level than its own, repeatedly
-    until none does. Returns the new set (``parts`` itself when nothing split) and the
-    number of particles split. Walls are split only when not ``fluid_only`` (the initial
-    refinement). ``grad_rho``: the hydrostatic density gradient
-    :math:`(\rho_0 / c_0^2)\,\mathbf{g}`; a child's density is its parent's plus this
-    gradient times its offset, so that a fluid at rest stays in hydrostatic balance (a
+    r"""Give four children to every particle of level ``l`` that lies in the buffered box
+    of a finer level and has no particle of level ``l + 1`` (of its kind and compartment)
+    within :data:`COVER` of its spacings, level by level. Returns the new set (``parts``
+    itself when none was made) and the number of children made. Walls get children only
+    when not ``fluid_only`` (the initial refinement). ``grad_rho``: the hydrostatic density
+    gradient :math:`(\rho_0 / c_0^2)\,\mathbf{g}`; a child's density is its parent's plus
+    this gradient times its offset, so that a fluid at rest stays in hydrostatic balance (a
     copied density would leave a pressure error of :math:`\rho g \Delta x_l / 4`)."""
-    n_split = 0
-    while True:
-        target, own = _levels(parts, boxes, dx, 0.0, fluid_only)
-        sel = np.nonzero(target > own)[0]
-        if len(sel) == 0:
-            return parts, n_split
-        n_split += len(sel)
-        parts = _replace(parts, sel, _children(parts, sel, dx, grad_rho))
+    n_new = 0
+    for lev in range(int(boxes[:, BX_LEVEL].max())):
+        own = levels(parts.hs)
+        cand = (own == lev) & (_targets(parts.x, parts.z, boxes, BUFFER * dx) > lev)
+        if fluid_only:
+            cand &= parts.kind == FLUID
+        idx = np.nonzero(cand)[0]
+        finer = np.nonzero(own == lev + 1)[0]
+        if len(idx) and len(finer):
+            tree = cKDTree(_keys(parts, finer))
+            dist, _ = tree.query(_keys(parts, idx),
+                                 distance_upper_bound=COVER * dx * 2.0 ** -lev)
+            idx = idx[~np.isfinite(dist)]
+        if len(idx):
+            n_new += 4 * len(idx)
+            f, i = _children(parts, idx, dx, grad_rho)
+            parts = Particles.of_columns(np.concatenate([parts.f, f], axis=1),
+                                         np.concatenate([parts.i, i], axis=1))
+    return parts, n_new
 
 
 def _children(parts: Particles, sel: np.ndarray, dx: float, grad_rho
@@ -135,104 +167,93 @@ def _children(parts: Particles, sel: np.ndarray, dx: float, grad_rho
     f[_FI["hs"]] *= 0.5
     f[_FI["sx"]] = 0.0
     f[_FI["sz"]] = 0.0
-    # the first child keeps the parent's id, the others take new ones
-    first = parts.i[_II["pid"]].max() + 1
-    new = first + np.arange(3 * len(sel), dtype=np.int64).reshape(-1, 3)
-    pid = i[_II["pid"]].reshape(-1, 4)
-    pid[:, 1:] = new
+    i[_II["pid"]] = parts.i[_II["pid"]].max() + 1 + np.arange(4 * len(sel))
     return f, i
 
 
-def _replace(parts: Particles, remove: np.ndarray, add: tuple[np.ndarray, np.ndarray]
-             ) -> Particles:
-    """A new set: ``parts`` without the particles ``remove``, then the columns ``add``."""
-    keep = np.ones(parts.n, dtype=bool)
-    keep[remove] = False
-    f, i = add
-    return Particles.of_columns(np.concatenate([parts.f[:, keep], f], axis=1),
-                                np.concatenate([parts.i[:, keep], i], axis=1))
+def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
+    """Mark every fluid particle active (in its level's region) or a ghost (inside a finer
+    box, or in its own box's buffer) in the field ``body``, and remove those beyond the
+    buffer. Returns the set (``parts`` itself when none was removed) and the number
+    removed."""
+    fluid = parts.kind == FLUID
+    own = levels(parts.hs)
+    region = _targets(parts.x, parts.z, boxes, 0.0)
+    gone = fluid & (own > _targets(parts.x, parts.z, boxes, BUFFER * dx))
+    parts.body[fluid] = np.where(own[fluid] == region[fluid], -1, GHOST)
+    n_gone = int(gone.sum())
+    return (parts.take(~gone) if n_gone else parts), n_gone
 
 
-@njit(**JIT)
-def _groups(x, z, comp, own, cand, dx):
-    """Groups of four merge candidates (indices ``cand``, in order): each with the three
-    other free candidates of its level and compartment within :data:`MERGE_RADIUS`
-    spacings that make the least second moment about their centroid."""
-    nc = cand.shape[0]
-    used = np.zeros(nc, dtype=np.bool_)
-    out = np.empty((nc // 4 + 1, 4), dtype=np.int64)
-    ng = 0
-    near = np.empty(64, dtype=np.int64)
-    for a in range(nc):
-        if used[a]:
+@njit(**JIT_PARALLEL)
+def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp, hs,
+                 cell_of, cell_start, ncx, kp, op, kin):
+    r"""Density and velocity of every ghost (:data:`sph.engine.particles.GHOST`) from the
+    active fluid particles around it, of every level, each with its own kernel: the
+    first-order moving least squares fit
+
+    .. math:: f_g = \sum_j f_j\,\beta_g\cdot(1, x_g - x_j, z_g - z_j)\,W_j(\mathbf{x}_g)\,V_j,
+              \qquad \beta_g = A_g^{-1}\mathbf{e}_1,\quad
+              A_g = \sum_j \mathbf{b}_j\mathbf{b}_j^T W_j V_j
+
+    (as the density filter, :func:`sph.engine.filters.mls_density`), exact for a linear
+    field; the Shepard mean where :math:`A_g` is near singular. Both leapfrog levels take
+    the fitted values; a ghost with no active particle in reach keeps its own."""
+    r2max = kp[KP_R2MAX]
+    for i in prange(x.shape[0]):
+        if kind[i] != FLUID or body[i] != GHOST:
             continue
-        i = cand[a]
-        d = dx * 2.0 ** (-own[i])
-        r2 = (MERGE_RADIUS * d) ** 2
-        nn = 0
-        for b in range(nc):
-            j = cand[b]
-            if b == a or used[b] or own[j] != own[i] or comp[j] != comp[i]:
-                continue
-            ddx = x[i] - x[j]
-            ddz = z[i] - z[j]
-            if ddx * ddx + ddz * ddz < r2 and nn < near.shape[0]:
-                near[nn] = b
-                nn += 1
-        if nn < 3:
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        a11 = a12 = a13 = a22 = a23 = a33 = 0.0
+        r0 = r1 = r2_ = u0 = u1 = u2 = w0 = w1 = w2 = 0.0
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                if kind[j] != FLUID or body[j] == GHOST:
+                    continue
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                s = hs[j]
+                if r2 >= r2max * s * s:
+                    continue
+                if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+                    continue
+                vw = w_scaled(r2, kp, s) * m[j] / rho[j]
+                a11 += vw
+                a12 += vw * dx
+                a13 += vw * dz
+                a22 += vw * dx * dx
+                a23 += vw * dx * dz
+                a33 += vw * dz * dz
+                r0 += vw * rho[j]
+                r1 += vw * rho[j] * dx
+                r2_ += vw * rho[j] * dz
+                u0 += vw * vx[j]
+                u1 += vw * vx[j] * dx
+                u2 += vw * vx[j] * dz
+                w0 += vw * vz[j]
+                w1 += vw * vz[j] * dx
+                w2 += vw * vz[j] * dz
+        if a11 <= 0.0:
             continue
-        best = np.inf
-        pick = (0, 0, 0)
-        for p in range(nn):
-            for q in range(p + 1, nn):
-                for r in range(q + 1, nn):
-                    ks = (i, cand[near[p]], cand[near[q]], cand[near[r]])
-                    cx = 0.25 * (x[ks[0]] + x[ks[1]] + x[ks[2]] + x[ks[3]])
-                    cz = 0.25 * (z[ks[0]] + z[ks[1]] + z[ks[2]] + z[ks[3]])
-                    mom = 0.0
-                    for k in ks:
-                        mom += (x[k] - cx) ** 2 + (z[k] - cz) ** 2
-                    if mom < best:
-                        best = mom
-                        pick = (near[p], near[q], near[r])
-        used[a] = True
-        out[ng, 0] = i
-        for c, b in enumerate(pick):
-            used[b] = True
-            out[ng, c + 1] = cand[b]
-        ng += 1
-    return out[:ng]
-
-
-def merge(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
-    """Merge the fluid particles that lie outside the boxes of their level (beyond the
-    margin), four into one. Returns the new set (``parts`` itself when nothing merged) and
-    the number of merged groups."""
-    target, own = _levels(parts, boxes, dx, MERGE_MARGIN, True)
-    cand = np.nonzero((target < own) & (parts.kind == FLUID))[0]
-    if len(cand) < 4:
-        return parts, 0
-    groups = _groups(parts.x, parts.z, parts.comp, own, cand, dx)
-    if len(groups) == 0:
-        return parts, 0
-    f = parts.f[:, groups]  # (field, group, member)
-    m = f[_FI["m"]]
-    mass = m.sum(axis=1)
-    merged = f[:, :, 0].copy()
-    for name in ("x", "z", "vx", "vz", "vx_old", "vz_old", "ax", "az", "bx", "bz",
-                 "x_sort", "z_sort", "x_inner", "z_inner"):
-        merged[_FI[name]] = (m * f[_FI[name]]).sum(axis=1) / mass
-    for name in ("rho", "rho_old"):  # the density that keeps the group's volume
-        merged[_FI[name]] = mass / (m / f[_FI[name]]).sum(axis=1)
-    merged[_FI["m"]] = mass
-    merged[_FI["p"]] = (m * f[_FI["p"]]).sum(axis=1) / mass
-    merged[_FI["drho"]] = 0.0
-    merged[_FI["sx"]] = 0.0
-    merged[_FI["sz"]] = 0.0
-    merged[_FI["hs"]] = 2.0 * f[_FI["hs"], :, 0]
-    ints = parts.i[:, groups[:, 0]].copy()
-    ints[_II["pid"]] = parts.i[_II["pid"]][groups].min(axis=1)
-    return _replace(parts, groups.ravel(), (merged, ints)), len(groups)
+        c11 = a22 * a33 - a23 * a23
+        c12 = -(a12 * a33 - a13 * a23)
+        c13 = a12 * a23 - a13 * a22
+        det = a11 * c11 + a12 * c12 + a13 * c13
+        if det > 1.0e-3 * a11 * a22 * a33 and det > 0.0:
+            rho[i] = (c11 * r0 + c12 * r1 + c13 * r2_) / det
+            vx[i] = (c11 * u0 + c12 * u1 + c13 * u2) / det
+            vz[i] = (c11 * w0 + c12 * w1 + c13 * w2) / det
+        else:
+            rho[i] = r0 / a11
+            vx[i] = u0 / a11
+            vz[i] = w0 / a11
+        rho_old[i] = rho[i]
+        vx_old[i] = vx[i]
+        vz_old[i] = vz[i]
 
 
 def levels(hs: np.ndarray) -> np.ndarray:
@@ -240,7 +261,12 @@ def levels(hs: np.ndarray) -> np.ndarray:
     return np.rint(-np.log2(hs)).astype(np.int32)
 
 
+def active_fluid(parts: Particles) -> np.ndarray:
+    """Mask of the fluid particles that carry mass (not ghosts)."""
+    return (parts.kind == FLUID) & (parts.body != GHOST)
+
+
 def level_counts(parts: Particles, n_levels: int) -> np.ndarray:
-    """Fluid particles per level ``0 .. n_levels``."""
-    lev = levels(parts.hs[parts.kind == FLUID])
+    """Active fluid particles per level ``0 .. n_levels``."""
+    lev = levels(parts.hs[active_fluid(parts)])
     return np.bincount(lev, minlength=n_levels + 1)[:n_levels + 1].astype(np.float64)

@@ -40,7 +40,14 @@ from sph.engine.neighbours import (
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
 from sph.engine.probes import point_pressures, surface_heights
-from sph.engine.refinement import level_counts, merge, pack_boxes, split
+from sph.engine.refinement import (
+    active_fluid,
+    assign,
+    ghost_fields,
+    level_counts,
+    pack_boxes,
+    spawn,
+)
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
 from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
@@ -92,7 +99,7 @@ class StateMismatch(ValueError):
 
 #: scalar state entries of a stepper: name -> type
 STATE_SCALARS = {"t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
-                 "n_lost": int, "warned_c0": bool, "n_split": int, "n_merged": int}
+                 "n_lost": int, "warned_c0": bool, "n_spawned": int, "n_removed": int}
 
 
 class Stepper:
@@ -127,15 +134,14 @@ class Stepper:
         self.boxes = pack_boxes(num.refinement)
         self.variable = len(self.boxes) > 0
         if self.variable:
-            log.warning("numerics.refinement: variable resolution is experimental; a level "
-                        "boundary is not yet in hydrostatic balance (docs/model.md, "
-                        "'Variable resolution')")
+            log.warning("numerics.refinement: variable resolution is experimental "
+                        "(docs/model.md, 'Variable resolution')")
             self._refine_initial()
         #: the finest level's smoothing length ratio: the time step and the lists' skins
         self.hs_min = 2.0 ** -num.max_level
-        #: particles split and groups merged (:mod:`sph.engine.refinement`) so far
-        self.n_split = 0
-        self.n_merged = 0
+        #: children made and ghosts removed (:mod:`sph.engine.refinement`) so far
+        self.n_spawned = 0
+        self.n_removed = 0
         self.nlist = NeighbourList()
         self._listed = None  # the particle set the lists were built for
         self.kin = fixed_kinematics(1 + len(self.setup.motions))
@@ -162,10 +168,10 @@ class Stepper:
         self.t = 0.0
         self.step = 0
         self.dt = 0.0
-        self.n_fluid = int(np.sum(self.parts.kind == FLUID))
+        self.n_fluid = int(np.sum(active_fluid(self.parts)))
         #: fluid particles that left the domain and were removed (:meth:`_exclude`)
         self.n_lost = 0
-        fmask = self.parts.kind == FLUID
+        fmask = active_fluid(self.parts)
         self.volume0 = float(np.sum(self.parts.m[fmask] / self.parts.rho[fmask]))
         self.record = Record()
         self.warned_c0 = False
@@ -214,23 +220,25 @@ class Stepper:
                 raise ConfigError(key, f"the box holds {int(inside.sum())} particles of a "
                                   "moving wall; a refinement box may hold fluid and fixed "
                                   "walls only")
-        self.parts, _ = split(p, self.boxes, self.cfg.numerics.dx, self._grad_rho(),
-                              fluid_only=False)
+        dx = self.cfg.numerics.dx
+        parts, _ = spawn(p, self.boxes, dx, self._grad_rho(), fluid_only=False)
+        self.parts, _ = assign(parts, self.boxes, dx)
 
     def _grad_rho(self) -> tuple[float, float]:
-        """The hydrostatic density gradient (rho0 / c0^2) g (:func:`split`)."""
+        """The hydrostatic density gradient (rho0 / c0^2) g (:func:`spawn`)."""
         k = self.cfg.fluid.rho0 / self.c0**2
         return k * self.gx, k * self.gz
 
     def _refine(self) -> None:
-        """Split the fluid particles that entered a finer box, merge those that left theirs
+        """Give children to the fluid particles that reached a finer box's buffer, mark
+        every fluid particle active or a ghost, remove the ghosts beyond their buffer
         (:mod:`sph.engine.refinement`)."""
         dx = self.cfg.numerics.dx
-        parts, n_split = split(self.parts, self.boxes, dx, self._grad_rho())
-        parts, n_merged = merge(parts, self.boxes, dx)
+        parts, n_new = spawn(self.parts, self.boxes, dx, self._grad_rho())
+        parts, n_gone = assign(parts, self.boxes, dx)
         if parts is not self.parts:
-            self.n_split += n_split
-            self.n_merged += n_merged
+            self.n_spawned += n_new
+            self.n_removed += n_gone
             self.parts = parts
             self._allocate_work()
 
@@ -260,6 +268,10 @@ class Stepper:
         p = self.parts
         g = self.grid
         fl = self.cfg.fluid
+        if self.variable:
+            ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
+                         p.kind, p.body, p.comp, p.hs, g.cell_of, g.cell_start, g.ncx, self.kp,
+                         self.op, self.kin)
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
@@ -274,6 +286,10 @@ class Stepper:
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable)
+        if self.variable:  # a ghost moves with its interpolated velocity
+            ghost = ~active_fluid(p) & (p.kind == FLUID)
+            for a in (p.ax, p.az, p.drho, p.sx, p.sz):
+                a[ghost] = 0.0
         if self.bodies:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp,
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
@@ -330,18 +346,19 @@ class Stepper:
                 or np.any(p.kind[out] != FLUID):
             raise SimulationError(self.step, self.t, f"{int(out.sum())} particle(s) left "
                                   f"{where} (or are NaN)")
-        n_out = int(out.sum())
+        n_out = int((out & active_fluid(p)).sum())  # a ghost is removed without a word
         budget = int(self.cfg.run.max_lost_fraction * self.n_fluid)
         if self.n_lost + n_out > budget:
             raise SimulationError(self.step, self.t, f"{n_out} fluid particle(s) left {where}"
                                   f", {self.n_lost + n_out} in all, more than "
                                   f"run.max_lost_fraction allows ({budget})")
-        k = np.nonzero(out)[0]
-        log.warning("t = %.5g s (step %d): %d fluid particle(s) left %s at (x, z) = %s m, "
-                    "speed %s m/s; removed (%d of %d allowed)", self.t, self.step, n_out,
-                    where, ", ".join(f"({p.x[i]:.3g}, {p.z[i]:.3g})" for i in k[:5]),
-                    ", ".join(f"{math.hypot(p.vx[i], p.vz[i]):.3g}" for i in k[:5]),
-                    self.n_lost + n_out, budget)
+        k = np.nonzero(out & active_fluid(p))[0]
+        if n_out:
+            log.warning("t = %.5g s (step %d): %d fluid particle(s) left %s at (x, z) = %s m, "
+                        "speed %s m/s; removed (%d of %d allowed)", self.t, self.step, n_out,
+                        where, ", ".join(f"({p.x[i]:.3g}, {p.z[i]:.3g})" for i in k[:5]),
+                        ", ".join(f"{math.hypot(p.vx[i], p.vz[i]):.3g}" for i in k[:5]),
+                        self.n_lost + n_out, budget)
         self.n_lost += n_out
         self.parts = p.take(inside)
         self._allocate_work()
@@ -398,7 +415,7 @@ class Stepper:
     def sample(self) -> None:
         """Append the current state to the time series."""
         p, fl = self.parts, self.cfg.fluid
-        f = p.kind == FLUID
+        f = active_fluid(p)
         m, vx, vz, rho = p.m[f], p.vx[f], p.vz[f], p.rho[f]
         speed2 = vx * vx + vz * vz
         values = {
@@ -420,6 +437,8 @@ class Stepper:
             values["body_force_x"] = forces[:, 0]
             values["body_force_z"] = forces[:, 1]
             values["body_moment"] = forces[:, 2]
+        if self.variable:  # the probes and diagnostics see the mass-carrying fluid
+            p = p.take(f | (p.kind != FLUID))
         for name, fn in self.setup.diagnostics.items():
             values[name] = fn(p, self.t)
         surf = surface_heights(p.x, p.z, p.m, p.rho, p.kind, p.comp, self.setup.probe_comp,

@@ -30,7 +30,7 @@ from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
-from sph.engine.particles import WALL
+from sph.engine.particles import GHOST, WALL
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
 
@@ -166,7 +166,7 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
             j = inner[k]
             ok, dx, dz, r2, s = _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max,
                                             op, kin)
-            if not ok:
+            if not ok or body[j] == GHOST:  # a ghost carries no mass (refinement)
                 continue
             # as in the momentum equation, fluid tension does not pull on a wall
             fw = f_scaled(r2, kp, s) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
