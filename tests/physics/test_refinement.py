@@ -1,11 +1,8 @@
-"""Variable resolution (:mod:`sph.engine.refinement`): splitting and merging conserve mass
-exactly and momentum to round-off; pairs of different smoothing lengths keep the pair forces
-antisymmetric; a case refined everywhere is the case at half the spacing; bad boxes are
-refused before any compute.
-
-What is not shown here, because it does not hold yet: a still tank with a level boundary in
-hydrostatic balance (docs/model.md, "Variable resolution": the kernel sums across a boundary
-of ratio 2 are off by up to 20 %, and such a tank does not settle).
+"""Variable resolution (:mod:`sph.engine.refinement`): children make the fine lattice and
+the active particles keep the mass, momentum and centre of mass; ghosts beyond their buffer
+go; a ghost's fields are exact for a linear field; the levels do not interact; a case refined
+everywhere is the case at half the spacing; a still tank with a level boundary settles as
+the uniform one; bad boxes are refused before any compute.
 """
 
 import math
@@ -20,8 +17,17 @@ from sph.engine.fluid import interact, pair_work
 from sph.engine.kernels import kernel_params
 from sph.engine.neighbours import CellGrid, NeighbourList
 from sph.engine.opening import no_opening
-from sph.engine.particles import FLUID, Particles
-from sph.engine.refinement import level_counts, levels, merge, pack_boxes, split
+from sph.engine.particles import FLUID, GHOST, Particles
+from sph.engine.refinement import (
+    BUFFER,
+    active_fluid,
+    assign,
+    ghost_fields,
+    level_counts,
+    levels,
+    pack_boxes,
+    spawn,
+)
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
 
@@ -56,101 +62,130 @@ def _totals(p):
             (m * p.z[f]).sum())
 
 
-def test_split_conserves_mass_momentum_and_makes_the_fine_lattice():
-    p = _lattice(10, 6)
-    boxes = pack_boxes([_Box((0.3, 0.7), (-1.0, 2.0), 1)])
+def _refined(p, boxes, grad_rho=(0.0, 0.0)):
+    q, n_new = spawn(p, boxes, DX, grad_rho)
+    q, _ = assign(q, boxes, DX)
+    return q, n_new
+
+
+def test_children_make_the_fine_lattice_and_the_active_mass_is_kept():
+    """The particles within a box's buffer get four children each; the mothers inside the
+    box and the children outside it become ghosts. The active particles then hold the
+    mass, momentum and centre of mass of the coarse set (a quarter of a mass is exact)."""
+    p = _lattice(20, 6)
+    boxes = pack_boxes([_Box((0.8, 1.2), (-1.0, 2.0), 1)])
     before = _totals(p)
-    q, n_split = split(p, boxes, DX)
-    assert n_split == 4 * 6  # the columns x = 0.35 .. 0.65
-    after = _totals(q)
-    assert after[0] == before[0]  # a quarter of a mass is exact (summed exactly here)
-    for a, b in zip(after[1:], before[1:], strict=True):
-        assert a == pytest.approx(b, rel=1e-14, abs=1e-12 * before[0])
-    fine = levels(q.hs) == 1
-    assert fine.sum() == 4 * n_split
+    q, n_new = _refined(p, boxes)
+    # the buffer reaches BUFFER fine spacings beyond the box: coarse columns 0.55 .. 1.45
+    pad = BUFFER * DX / 2
+    mothers = np.abs(p.x - 1.0) < 0.2 + pad
+    assert n_new == 4 * mothers.sum()
+    a = active_fluid(q)
+    after = _totals(q.take(a))
+    assert after[0] == before[0]
+    for u, v in zip(after[1:], before[1:], strict=True):
+        assert u == pytest.approx(v, rel=1e-14, abs=1e-12 * before[0])
+    lev = levels(q.hs)
+    inside = (q.x > 0.8) & (q.x < 1.2)
+    assert np.all(a == (inside == (lev == 1)))  # coarse active outside, fine inside
+    assert np.all(q.body[~a] == GHOST)
     # the children of a lattice of spacing dx are the lattice of spacing dx / 2
+    fine = lev == 1
     fx = np.sort(np.unique(np.round(q.x[fine] / (DX / 2) - 0.5, 9)))
-    np.testing.assert_allclose(fx, np.arange(6, 14))
+    np.testing.assert_allclose(fx, np.arange(10, 30))
     fz = np.sort(np.unique(np.round(q.z[fine] / (DX / 2) - 0.5, 9)))
     np.testing.assert_allclose(fz, np.arange(12))
     assert len(np.unique(q.pid)) == q.n  # ids stay unique
-    np.testing.assert_array_equal(level_counts(q, 1), [p.n - n_split, 4 * n_split])
+    np.testing.assert_array_equal(level_counts(q, 1), [16 * 6, 4 * 6 * 4])
+    # a covered mother gets no second set of children
+    again, n_again = spawn(q, boxes, DX)
+    assert n_again == 0 and again is q
 
 
-def test_split_keeps_a_fluid_at_rest_hydrostatic():
+def test_children_keep_a_fluid_at_rest_hydrostatic():
     """A child's density is its parent's plus the hydrostatic gradient times its offset."""
     p = _lattice(4, 4)
     p.vx[:] = p.vz[:] = 0.0
     k = 1000.0 / 30.0**2
-    q, _ = split(p, pack_boxes([_Box((-1.0, 1.0), (-1.0, 1.0), 1)]), DX, (0.0, -9.81 * k))
+    q, _ = _refined(p, pack_boxes([_Box((-1.0, 1.0), (-1.0, 1.0), 1)]), (0.0, -9.81 * k))
     # children of one parent: the lower ones denser by rho0 g (dx / 2) / c0^2
-    parent = p.rho[0]
-    kids = np.argsort(np.hypot(q.x - p.x[0], q.z - p.z[0]))[:4]
+    kids = np.nonzero(levels(q.hs) == 1)[0]
+    kids = kids[np.argsort(np.hypot(q.x[kids] - p.x[0], q.z[kids] - p.z[0]))[:4]]
     dz = q.z[kids] - p.z[0]
-    np.testing.assert_allclose(q.rho[kids] - parent, -9.81 * k * dz, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(q.rho[kids] - p.rho[0], -9.81 * k * dz, rtol=1e-9, atol=1e-12)
 
 
-def test_merge_conserves_mass_and_momentum_and_undoes_a_split():
+def test_ghosts_beyond_the_buffer_are_removed_and_mothers_take_the_mass_back():
     p = _lattice(8, 4)
-    boxes = pack_boxes([_Box((0.0, 0.8), (-1.0, 2.0), 1)])
-    fine, _ = split(p, boxes, DX)
-    before = _totals(fine)
-    # the box moves away: every fine particle is now a merge candidate
-    gone = pack_boxes([_Box((5.0, 6.0), (-1.0, 2.0), 1)])
-    back, n_groups = merge(fine, gone, DX)
-    assert n_groups == p.n
-    after = _totals(back)
-    assert after[0] == pytest.approx(before[0], rel=1e-15)
-    for a, b in zip(after[1:], before[1:], strict=True):
-        assert a == pytest.approx(b, rel=1e-13, abs=1e-12 * before[0])
-    assert np.all(levels(back.hs) == 0)
-    # merging four children of a lattice cell gives back the parent's position and mass
-    order_p = np.lexsort((np.round(p.z, 9), np.round(p.x, 9)))
-    order_b = np.lexsort((np.round(back.z, 9), np.round(back.x, 9)))
-    np.testing.assert_allclose(back.x[order_b], p.x[order_p], atol=1e-14)
-    np.testing.assert_allclose(back.z[order_b], p.z[order_p], atol=1e-14)
-    np.testing.assert_allclose(back.m[order_b], p.m[order_p], rtol=1e-15)
+    q, _ = _refined(p, pack_boxes([_Box((0.2, 0.6), (-1.0, 2.0), 1)]))
+    gone = pack_boxes([_Box((5.0, 6.0), (-1.0, 2.0), 1)])  # the box moved away
+    back, n_gone = assign(q, gone, DX)
+    assert n_gone == (levels(q.hs) == 1).sum()
+    assert back.n == p.n and np.all(active_fluid(back))
+    assert _totals(back)[0] == _totals(p)[0]
 
 
-def test_merge_waits_for_four_partners_and_respects_the_margin():
-    p = _lattice(2, 2)  # one lattice cell of 2 x 2 coarse particles
-    fine, _ = split(p, pack_boxes([_Box((-1.0, 1.0), (-1.0, 1.0), 1)]), DX)
-    # the box edge just beside the particles: inside the margin, nothing merges
-    near = pack_boxes([_Box((0.12, 1.0), (-1.0, 1.0), 1)])
-    same, n = merge(fine, near, DX)
-    assert n == 0 and same is fine
-    # three fine particles alone do not merge
-    alone = fine.take(np.arange(fine.n) < 3)
-    same, n = merge(alone, pack_boxes([_Box((5.0, 6.0), (5.0, 6.0), 1)]), DX)
-    assert n == 0 and same is alone
+def test_ghost_fields_are_exact_for_a_linear_field():
+    """The first-order fit of a ghost's density and velocity from the active particles of
+    every level reproduces a linear field to round-off, next to the box and inside it."""
+    p = _lattice(16, 8)
+    boxes = pack_boxes([_Box((0.55, 1.05), (0.2, 2.0), 1)])
+    q, _ = _refined(p, boxes)
+    rng = np.random.default_rng(3)
+    q.x[:] += rng.normal(0.0, 0.05 * DX, q.n) * levels(q.hs)  # disorder the fine level
+    kp = kernel_params("gaussian", 1.23 * DX)
+    grid = CellGrid(-0.5, 2.1, -0.5, 1.3, 3.0 * kp[1] * 1.15)
+    x, z, m, hs, body = sort_by_cells(grid, q.x, q.z, q.m, q.hs, q.body)
+    n = len(x)
+    lin = {"rho": (1000.0, 3.0, -9.0), "vx": (0.5, -2.0, 1.0), "vz": (-0.1, 0.7, 0.3)}
+    fields = {k: c[0] + c[1] * x + c[2] * z for k, c in lin.items()}
+    ghost = body == GHOST
+    assert ghost.sum() > 50
+    work = {k: np.where(ghost, rng.normal(0.0, 1.0, n), v) for k, v in fields.items()}
+    old = {k: np.zeros(n) for k in fields}
+    kind = np.zeros(n, np.int32)
+    ghost_fields(x, z, work["vx"], work["vz"], work["rho"], old["vx"], old["vz"], old["rho"],
+                 m, kind, body, kind, hs, grid.cell_of, grid.cell_start, grid.ncx, kp,
+                 no_opening(), fixed_kinematics(1))
+    for k, v in fields.items():
+        np.testing.assert_allclose(work[k], v, rtol=0, atol=1e-9 * np.abs(v).max(),
+                                   err_msg=k)
+        np.testing.assert_array_equal(old[k][ghost], work[k][ghost])
 
 
-def test_pairs_of_different_sizes_conserve_momentum():
-    """Without gravity and walls the pressure and viscous forces of all pairs cancel, fine
-    and coarse particles mixed (pair smoothing length the mean of the two)."""
+def test_levels_do_not_interact():
+    """The active particles of a level feel only their own level: the accelerations of the
+    fine particles do not change when the coarse ghosts inside their box change."""
     p = _lattice(16, 8, rng=np.random.default_rng(5))
-    p, _ = split(p, pack_boxes([_Box((0.55, 1.05), (-1.0, 2.0), 1)]), DX)
-    rng = np.random.default_rng(6)
-    p.x[:] += rng.normal(0.0, 0.05 * DX, p.n)
-    p.z[:] += rng.normal(0.0, 0.05 * DX, p.n)
+    q, _ = _refined(p, pack_boxes([_Box((0.55, 1.05), (-1.0, 2.0), 1)]))
     kp = kernel_params("gaussian", 1.23 * DX)
     support = 3.0 * kp[1]
     grid = CellGrid(-0.5, 2.1, -0.5, 1.3, support)
-    n = p.n
-    x, z, vx, vz, rho, m, hs = sort_by_cells(grid, p.x, p.z, p.vx, p.vz, p.rho, p.m, p.hs)
-    pres = 30.0**2 * (rho - 1000.0)
+    x, z, vx, vz, rho, m, hs, body = sort_by_cells(grid, q.x, q.z, q.vx, q.vz, q.rho, q.m,
+                                                   q.hs, q.body)
+    n = len(x)
     kind = np.zeros(n, np.int32)
     nlist = NeighbourList()
     nlist.build(x, z, kind, grid, support, hs)
     nlist.refresh(x, z, support, hs)
-    ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
-    interact(x, z, vx, vz, rho, pres, m, kind, np.full(n, -1, np.int32), kind, hs,
-             grid.cell_of, grid.cell_start, grid.ncx, kp, 2 * 0.02 * kp[1] * 30.0, 0.0, 0.0,
-             0.0, 0.0, x, x, ax, az, drho, no_opening(), fixed_kinematics(1), np.zeros(3), sx,
-             sz, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True)
-    assert (levels(hs) == 1).sum() > 0 and (levels(hs) == 0).sum() > 0
-    for a in (ax, az):
-        assert abs((m * a).sum()) < 1e-12 * (m * np.abs(a)).sum()
+
+    def accel(rho):
+        pres = 30.0**2 * (rho - 1000.0)
+        ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
+        interact(x, z, vx, vz, rho, pres, m, kind, body, kind, hs, grid.cell_of,
+                 grid.cell_start, grid.ncx, kp, 2 * 0.02 * kp[1] * 30.0, 0.0, 0.0, 0.0, 0.0,
+                 x, x, ax, az, drho, no_opening(), fixed_kinematics(1), np.zeros(3), sx, sz,
+                 pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True)
+        return ax, az, drho
+
+    before = accel(rho)
+    coarse_ghost = (body == GHOST) & (levels(hs) == 0)
+    assert coarse_ghost.sum() > 0
+    after = accel(np.where(coarse_ghost, rho + 5.0, rho))
+    fine = (levels(hs) == 1) & (body != GHOST)
+    for u, v in zip(before, after, strict=True):
+        np.testing.assert_array_equal(u[fine], v[fine])
+        assert np.any(u[~fine] != v[~fine])  # the coarse particles do feel them
 
 
 def _still(dx, boxes=None):
@@ -175,7 +210,7 @@ def test_a_case_refined_everywhere_is_the_case_at_half_the_spacing():
     fine = _still(0.05)
     assert coarse.variable and not fine.variable
     a, b = coarse.parts, fine.parts
-    fa = np.nonzero(a.kind == FLUID)[0]
+    fa = np.nonzero(active_fluid(a))[0]
     fb = np.nonzero(b.kind == FLUID)[0]
     assert len(fa) == len(fb)
     ia = fa[np.lexsort((np.round(a.z[fa], 9), np.round(a.x[fa], 9)))]
@@ -247,7 +282,7 @@ def test_restart_with_refinement_continues_bit_for_bit():
     second.set_state(first.get_state())
     for _ in range(200):
         second.advance()
-    assert whole.n_split + whole.n_merged > 0  # the level boundary moved particles across
-    assert second.n_split == whole.n_split and second.n_merged == whole.n_merged
+    assert whole.n_spawned + whole.n_removed > 0  # the level boundary moved particles across
+    assert (second.n_spawned, second.n_removed) == (whole.n_spawned, whole.n_removed)
     np.testing.assert_array_equal(second.parts.f, whole.parts.f)
     np.testing.assert_array_equal(second.parts.i, whole.parts.i)
