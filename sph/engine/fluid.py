@@ -167,7 +167,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
 
 @njit(**JIT)
 def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, gx, gz,
-                   ddt_rho, op, kin, start, inner, inner_end):
+                   ddt_rho, op, kin, start, inner, inner_end, s):
     """What the damage opening changes in the sums of fluid particle ``i`` (near the open
     opening) over those of its own compartment that the list loops take
     (:func:`_list_sums`): plus the fluid of another compartment seen through the opening
@@ -189,7 +189,7 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
         dx = xi - x[j]
         dz = zi - z[j]
         r2 = dx * dx + dz * dz
-        if r2 >= r2max or j == i:
+        if r2 >= r2max * s * s or j == i:
             continue
         if kind[j] == FLUID:
             if comp[j] == ci or not passable(xi, zi, x[j], z[j], ci, comp[j], op, kin):
@@ -201,7 +201,7 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
                           p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False,
-                          1.0)
+                          s)
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -256,12 +256,13 @@ def _list_sums(wendland: bool, diffusion: bool):
     """
 
     @njit(inline="always", **JIT_PAIR)
-    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz):
-        h2 = kp[KP_H] * kp[KP_H]
-        r2max = kp[KP_R2MAX]
+    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s):
+        h2 = kp[KP_H] * kp[KP_H] * s * s
+        r2max = kp[KP_R2MAX] * s * s
         eps2 = 1.0e-4 * h2
-        inv_h2 = kp[KP_INV_H2]
-        alpha = kp[KP_ALPHA]
+        inv_h2 = kp[KP_INV_H2] / (s * s)
+        alpha = kp[KP_ALPHA] / (s * s)
+        visc = visc_coef * s
         fg = -2.0 * alpha * inv_h2  # Gaussian: F = fg exp(-q^2)
         wg = alpha * E9  # Gaussian: W = -F h^2 / 2 - alpha e^-9
         fwend = -5.0 * alpha * inv_h2  # Wendland: F = fwend t^3, t = 1 - q/2
@@ -299,11 +300,11 @@ def _list_sums(wendland: bool, diffusion: bool):
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
             div += vj * vr * fw
             coef = -((pi if fluid else ppos) + pk[j, PK_P]) * vj * inv_rhoi
-            coef += visc_coef * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
+            coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
             accx += coef * fw * dx
             accz += coef * fw * dz
             if diffusion:
-                d = -2.0 * vj * fw * (rhoj - rhoi - hx * dx - hz * dz)
+                d = -2.0 * s * vj * fw * (rhoj - rhoi - hx * dx - hz * dz)
                 diff += d if fluid else 0.0
             if wendland:
                 w = vj * alpha * t2 * t2 * (2.0 * q + 1.0)
@@ -328,16 +329,16 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
-    Under the renormalised diffusive term, and under variable resolution (``variable``:
-    the smoothing lengths ``hs`` differ, :mod:`sph.engine.refinement`), every fluid
-    particle takes every pair rule at every particle of its inner list within the
-    support (:func:`_sums_general`). Otherwise
+    Under the renormalised diffusive term every fluid particle takes every pair rule at
+    every particle of its inner list within the support (:func:`_sums_general`). Otherwise
     every fluid particle sums over its inner list
     ``inner[start[i]:inner_end[i]]`` (:class:`sph.engine.neighbours.NeighbourList`) with
     the kernel's own loop (:func:`_list_sums`), in the same order, the pairs of its own
     compartment; one within reach of an open damage opening adds what the opening
-    changes (:func:`_opening_terms`). :func:`interact_reference` sums every particle the
-    general way.
+    changes (:func:`_opening_terms`). Under variable resolution (``variable``,
+    :mod:`sph.engine.refinement`) a list holds the particle's own level only, so its loop
+    takes the level's smoothing length ``hs[i] h`` for every pair.
+    :func:`interact_reference` sums every particle the general way.
 
     Parameters
     ----------
@@ -366,8 +367,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     n = x.shape[0]
     pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk)
     use_delta = delta_coef != 0.0
-    # the renormalised term needs grx, grz; variable resolution a smoothing length per pair
-    general = (use_delta and ddt_rho == 0.0) or variable
+    # the renormalised term needs grx, grz
+    general = use_delta and ddt_rho == 0.0
     hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
     hz = -ddt_rho * gz
     gauss = kp[KP_KIND] == 0.0
@@ -383,22 +384,24 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         else:
             k0 = start[i]
             k1 = inner_end[i]
+            # every pair of a list is of the particle's own level (pair_scale)
+            s = hs[i] if variable else 1.0
             if gauss and use_delta:
                 accx, accz, div, diff, shep = _sums_gaussian_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
             elif gauss:
                 accx, accz, div, diff, shep = _sums_gaussian(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
             elif use_delta:
                 accx, accz, div, diff, shep = _sums_wendland_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
             else:
                 accx, accz, div, diff, shep = _sums_wendland(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
-                                   inner_end)
+                                   inner_end, s)
                 accx += t[0]
                 accz += t[1]
                 div += t[2]
