@@ -36,6 +36,8 @@ INT_FIELDS = (
     "body",  # wall particles: motion group (0 = fixed tank); fluid: -1, GHOST for a ghost
     "comp",  # compartment: a pair interacts only when compartments match
     "pid",  # original index, stable across sorting
+    "parent",  # refinement children: the pid of the particle they were made from; else -1
+    # (sph.engine.refinement)
 )
 #: particles per block of the permutation
 _GATHER_BLOCK = 2048
@@ -56,6 +58,7 @@ class Particles:
         self._f_buf = np.empty_like(self.f)
         self._i_buf = np.empty_like(self.i)
         self.i[_II["pid"]] = np.arange(n, dtype=np.int32)
+        self.i[_II["parent"]] = -1
         self.f[_FI["hs"]] = 1.0
 
     @property

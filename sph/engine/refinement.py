@@ -35,18 +35,20 @@ active particles of its level, and nothing acts back on it. Ghosts are kept out 
 mass, the energies, the probes and the forces on bodies (the particle field ``body`` of a
 ghost is :data:`sph.engine.particles.GHOST`).
 
-**Change of state** (:func:`assign`), from the position alone: a fluid particle is active
-in its level's region, a ghost inside a finer box or in its buffer, and is removed beyond
-the buffer (only ghosts reach it). **Children** (:func:`spawn`): a particle of level ``l``
-inside the buffered box of a finer level, with no particle of level ``l + 1`` within half
-its spacing, gets four children of a quarter of its mass at :math:`\pm\Delta x_l/4` along
-both axes (the square pattern of Feldman & Bonet 2007; Barcarolo et al. 2014), with its
-velocity and its density corrected hydrostatically; it keeps existing. The active mass is
-then the coarse particles' outside the box and the fine particles' inside: a particle
-crossing a level boundary hands its mass to the other level's particles at that place,
-which carry the same mass to within the lattice's discreteness; the mass held by the
-active particles fluctuates by a fraction of a coarse particle's mass per particle
-crossing (``fluid_mass`` in the output) and is kept exactly while no particle crosses.
+**Families** (:func:`spawn`, :func:`assign`): a particle of level ``l`` inside the
+buffered box of a finer level gets four children of a quarter of its mass at
+:math:`\pm\Delta x_l/4` along both axes (the square pattern of Feldman & Bonet 2007;
+Barcarolo et al. 2014), with its velocity and its density corrected hydrostatically; it
+keeps existing, and its children keep its id in the field ``parent``. Its children are
+removed when it leaves that buffered box (and theirs with them). A level-0 particle and its
+descendants are one family, and the family is active at one level only: the level of the
+region its level-0 particle lies in; its other levels are ghosts. The mass held by the
+active particles is then the initial mass exactly, whatever crosses a level boundary (a
+rule by each particle's own position, as Chiron et al. use, lets fine ghosts drift into a
+box without the coarse mass leaving it: a still tank gained 2 % of its mass in 10 s). A
+family spreads a little while it lives: its ghosts move with the flow interpolated at
+their own places, so a level boundary is sharp to within that spread, and each level's
+lattice stays complete across it, its ghosts filling the other side.
 Fixed walls are built the same way at the initial refinement: their coarse layers are kept
 everywhere and fine ones added within the buffered box, so that the walls of every level
 are as fine as the fluid beside them.
@@ -62,7 +64,6 @@ from __future__ import annotations
 
 import numpy as np
 from numba import prange
-from scipy.spatial import cKDTree
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, w_scaled
@@ -74,9 +75,6 @@ BX_XMIN, BX_XMAX, BX_ZMIN, BX_ZMAX, BX_LEVEL = range(5)
 #: width of the buffer of ghosts around a box, in its level's spacings: the kernel
 #: support (3 h = 3.7 spacings for the Gaussian) with the lists' skin, plus one spacing
 BUFFER = 5.5
-#: a particle gets children when no particle of the finer level lies within this many
-#: of its own spacings (a fine lattice has one within 0.35)
-COVER = 0.5
 
 
 def pack_boxes(boxes) -> np.ndarray:
@@ -111,22 +109,14 @@ def _targets(x, z, boxes, pad):
     return out
 
 
-def _keys(parts: Particles, idx: np.ndarray) -> np.ndarray:
-    """Points for the coverage search: position, and a third coordinate that sets apart the
-    particles of another kind or compartment (a thin wall's two sides)."""
-    sep = 1.0e7 * (parts.kind[idx].astype(np.float64) * 65536.0 + parts.comp[idx])
-    return np.column_stack([parts.x[idx], parts.z[idx], sep])
-
-
 def spawn(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
           fluid_only: bool = True) -> tuple[Particles, int]:
     r"""Give four children to every particle of level ``l`` that lies in the buffered box
-    of a finer level and has no particle of level ``l + 1`` (of its kind and compartment)
-    within :data:`COVER` of its spacings, level by level. Returns the new set (``parts``
-    itself when none was made) and the number of children made. Walls get children only
-    when not ``fluid_only`` (the initial refinement). ``grad_rho``: the hydrostatic density
-    gradient :math:`(\rho_0 / c_0^2)\,\mathbf{g}`; a child's density is its parent's plus
-    this gradient times its offset, so that a fluid at rest stays in hydrostatic balance (a
+    of a finer level and has none, level by level. Returns the new set (``parts`` itself
+    when none was made) and the number of children made. Walls get children only when not
+    ``fluid_only`` (the initial refinement). ``grad_rho``: the hydrostatic density gradient
+    :math:`(\rho_0 / c_0^2)\,\mathbf{g}`; a child's density is its parent's plus this
+    gradient times its offset, so that a fluid at rest stays in hydrostatic balance (a
     copied density would leave a pressure error of :math:`\rho g \Delta x_l / 4`)."""
     n_new = 0
     for lev in range(int(boxes[:, BX_LEVEL].max())):
@@ -134,13 +124,8 @@ def spawn(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
         cand = (own == lev) & (_targets(parts.x, parts.z, boxes, BUFFER * dx) > lev)
         if fluid_only:
             cand &= parts.kind == FLUID
+        cand &= ~np.isin(parts.pid, parts.parent[own == lev + 1])
         idx = np.nonzero(cand)[0]
-        finer = np.nonzero(own == lev + 1)[0]
-        if len(idx) and len(finer):
-            tree = cKDTree(_keys(parts, finer))
-            dist, _ = tree.query(_keys(parts, idx),
-                                 distance_upper_bound=COVER * dx * 2.0 ** -lev)
-            idx = idx[~np.isfinite(dist)]
         if len(idx):
             n_new += 4 * len(idx)
             f, i = _children(parts, idx, dx, grad_rho)
@@ -167,22 +152,48 @@ def _children(parts: Particles, sel: np.ndarray, dx: float, grad_rho
     f[_FI["hs"]] *= 0.5
     f[_FI["sx"]] = 0.0
     f[_FI["sz"]] = 0.0
+    i[_II["parent"]] = i[_II["pid"]]
     i[_II["pid"]] = parts.i[_II["pid"]].max() + 1 + np.arange(4 * len(sel))
     return f, i
 
 
+def _index_of(pid: np.ndarray, wanted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the particle of each id ``wanted`` (ids unique) and whether it exists."""
+    order = np.argsort(pid, kind="stable")
+    k = np.minimum(np.searchsorted(pid[order], wanted), len(pid) - 1)
+    found = pid[order][k] == wanted
+    return order[k], found
+
+
 def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
-    """Mark every fluid particle active (in its level's region) or a ghost (inside a finer
-    box, or in its own box's buffer) in the field ``body``, and remove those beyond the
-    buffer. Returns the set (``parts`` itself when none was removed) and the number
-    removed."""
+    """Remove the children of the fluid particles that left the buffered boxes of their
+    children's level (and the children of removed ones), then mark every fluid particle
+    active or a ghost (field ``body``): a family (a particle of level 0 and its
+    descendants) is active at the level of the region its level-0 particle lies in, and
+    a ghost at every other level. Returns the set (``parts`` itself when none was removed)
+    and the number removed."""
     fluid = parts.kind == FLUID
     own = levels(parts.hs)
-    region = _targets(parts.x, parts.z, boxes, 0.0)
-    gone = fluid & (own > _targets(parts.x, parts.z, boxes, BUFFER * dx))
-    parts.body[fluid] = np.where(own[fluid] == region[fluid], -1, GHOST)
+    gone = np.zeros(parts.n, dtype=bool)
+    reach = _targets(parts.x, parts.z, boxes, BUFFER * dx)
+    for lev in range(1, int(own.max()) + 1):
+        kids = np.nonzero(fluid & (own == lev))[0]
+        mother, found = _index_of(parts.pid, parts.parent[kids])
+        gone[kids] = ~found | gone[mother] | (reach[mother] < lev)
     n_gone = int(gone.sum())
-    return (parts.take(~gone) if n_gone else parts), n_gone
+    if n_gone:
+        parts = parts.take(~gone)
+        fluid, own = fluid[~gone], own[~gone]
+    # the level-0 ancestor of every fluid particle
+    root = np.arange(parts.n)
+    for _ in range(int(own.max())):
+        up = np.nonzero(fluid & (parts.parent[root] >= 0))[0]
+        if len(up) == 0:
+            break
+        root[up], _ = _index_of(parts.pid, parts.parent[root[up]])
+    region = _targets(parts.x[root], parts.z[root], boxes, 0.0)
+    parts.body[fluid] = np.where(own[fluid] == region[fluid], -1, GHOST)
+    return parts, n_gone
 
 
 @njit(**JIT_PARALLEL)

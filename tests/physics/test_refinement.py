@@ -97,9 +97,17 @@ def test_children_make_the_fine_lattice_and_the_active_mass_is_kept():
     np.testing.assert_allclose(fz, np.arange(12))
     assert len(np.unique(q.pid)) == q.n  # ids stay unique
     np.testing.assert_array_equal(level_counts(q, 1), [16 * 6, 4 * 6 * 4])
-    # a covered mother gets no second set of children
+    # a mother with children gets no second set
     again, n_again = spawn(q, boxes, DX)
     assert n_again == 0 and again is q
+    # a family is active at one level, whichever of its members crosses the box's edge:
+    # the active mass stays the same when every particle moves about
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        q.x[:] += rng.uniform(-0.3, 0.3, q.n) * DX
+        q.z[:] += rng.uniform(-0.3, 0.3, q.n) * DX
+        q, _ = assign(q, boxes, DX)
+        assert math.fsum(q.m[active_fluid(q)]) == before[0]
 
 
 def test_children_keep_a_fluid_at_rest_hydrostatic():
