@@ -22,6 +22,7 @@ from sph import __version__
 from sph.cases import setup as case_setup
 from sph.engine.absorber import absorber_active, absorber_speed
 from sph.engine.config import CaseConfig
+from sph.engine.particles import GHOST
 from sph.engine.refinement import levels
 from sph.engine.stepper import SimulationError, Stepper
 from sph.io.checkpoint import remove_checkpoints, write_checkpoint
@@ -262,7 +263,7 @@ class Simulation(Stepper):
         vtk.write(self.t, p.x, p.z, {
             "velocity": np.column_stack([p.vx, p.vz]), "density": p.rho, "pressure": p.p,
             "kind": p.kind.astype(np.int32), "id": p.pid.astype(np.int32),
-            "level": levels(p.hs)})
+            "level": levels(p.hs), "ghost": (p.body == GHOST).astype(np.int32)})
 
 
 class _StopSignals:
