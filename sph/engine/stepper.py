@@ -43,7 +43,7 @@ from sph.engine.probes import point_pressures, surface_heights
 from sph.engine.refinement import level_counts, merge, pack_boxes, split
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
-from sph.engine.surface import CLAMP, FREE_SURFACE, WALL_TENSION, free_surface
+from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
 from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
 
 log = logging.getLogger(__name__)
@@ -272,7 +272,7 @@ class Stepper:
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
-                      self.tension == CLAMP)
+                      self.tension != NONE)
         if self._surf is not None:
             free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,

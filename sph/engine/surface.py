@@ -40,11 +40,14 @@ a negative sum means the wall pulls the fluid. Three rules (config key
     (:func:`sph.engine.walls.wall_pressure`): no wall ever pulls on any fluid particle.
 ``free_surface``
     Eq. 6: :math:`\max(P_i + P_j, 0)` when :math:`i` is a free-surface particle,
-    :math:`P_i + P_j` otherwise, and the wall pressure not clamped: the surface separates
-    from a wall freely, while fluid inside the flow stays attached to a wall that draws
-    away from it (as a real liquid does, above its vapour pressure).
+    :math:`P_i + P_j` otherwise: the surface separates from a wall freely, while fluid inside
+    the flow, in tension, stays attached to a wall that draws away from it (as a real liquid
+    does, above its vapour pressure). The wall pressure stays clamped at zero: a wall
+    particle in tension pulls the fluid next to it through the wall layers (``none``
+    loses particles through a flap pulled back at 1.5 g, docs/validation/wall_tension.md).
 ``none``
-    :math:`P_i + P_j` everywhere.
+    :math:`P_i + P_j` everywhere, the wall pressure not clamped (the second source paper
+    without its Eq. 6).
 
 The same sum, with the same clamp, gives the force of the fluid on a moving body
 (:func:`sph.engine.walls.wall_forces`): action and reaction stay equal. Every loop takes it

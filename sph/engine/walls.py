@@ -94,8 +94,8 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
     are rigid), so its mass follows its density: ``m = rho vol0 hs^2``. ``hs``: each
     particle's smoothing length ratio, None at uniform resolution (1). Fluid seen through
     an open damage opening ``op`` does not count (:func:`sph.engine.opening.wall_hidden`).
-    The pressure is clamped at zero (``clamp``, ``numerics.wall_tension: clamp``): a wall in
-    tension would attract the fluid through itself. The fluid neighbours come from the wall
+    The pressure is clamped at zero (``clamp``; all but ``numerics.wall_tension: none``): a
+    wall in tension would attract the fluid through itself. The fluid neighbours come from the wall
     particle's inner list ``inner[start[i]:inner_end[i]]``
     (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
     the damaged hull's wall particles within reach of an open opening."""
@@ -130,7 +130,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
             sw += w
             sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
         # a wall in tension would pull fluid through itself (a vortex core reaching a wall
-        # takes negative pressure with it); walls push, they do not pull (under clamp)
+        # takes negative pressure with it); walls push, they do not pull (unless wall_tension: none)
         pb = sp / sw if sw > 1.0e-6 else 0.0
         p[i] = max(pb, 0.0) if clamp else pb
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
