@@ -20,7 +20,6 @@ from __future__ import annotations
 import argparse
 import cmath
 import json
-import math
 import time
 from pathlib import Path
 

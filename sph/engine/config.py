@@ -65,6 +65,11 @@ class Numerics:
                                doc="steps between Euler re-couplings of the Verlet scheme")
     shifting: float = spec(0.0, lo=0.0, hi=10.0,
                            doc="particle shifting coefficient C (Sun et al. 2017); 0 = off")
+    wall_tension: str = spec("clamp", choices=("clamp", "free_surface", "none"),
+                             doc="pressure sum of a fluid and a wall particle: clamp (a "
+                                 "wall never pulls), free_surface (clamped at zero for "
+                                 "free-surface fluid only, the second source paper's Eq. 6) "
+                                 "or none (sph.engine.surface)")
     wall_layers: int = spec(0, lo=0, hi=20,
                             doc="layers of dummy particles; 0 = enough to cover the support")
     threads: int = spec(0, lo=0, hi=1024, doc="numba threads; 0 = NUMBA_NUM_THREADS")

@@ -20,8 +20,12 @@ with :math:`c_i = c_j = c_0`. Against a wall particle the fluid pressure enters 
 :math:`\max(P_i, 0)` (and the wall's own extrapolated pressure is clamped at zero,
 :func:`sph.engine.walls.wall_pressure`): a wall pushes and never pulls, so fluid in tension
 (a vortex core reaching the tank floor under a rolling hull) cannot be drawn through the wall
-layers. The optional delta-SPH diffusive term (second source paper,
-Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid particles:
+layers. ``numerics.wall_tension`` chooses another rule (:mod:`sph.engine.surface`: the
+second source paper's Eq. 6 clamps the pair's pressure sum for free-surface particles only);
+every loop takes the pair's pressure sum as :math:`\max(a_i + P_j, f_i)` with ``(a_i, f_i)``
+of :func:`sph.engine.surface.wall_pair_terms`. The optional delta-SPH diffusive term (second
+source paper, Eq. 2; Antuono et al. 2010) is added to the continuity equation between fluid
+particles:
 
 .. math::
     D_i = \delta h c_0 \sum_j \psi_{ij}\cdot\nabla_i W_{ij} V_j,\qquad
@@ -71,17 +75,19 @@ from sph.engine.kernels import (
 from sph.engine.opening import opening_circle, passable, sees, wall_hidden
 from sph.engine.particles import FLUID
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
+from sph.engine.surface import CLAMP, wall_pair_terms
 
 
 @njit(inline="always", **JIT)
 def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, grx,
-                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s):
+                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor):
     """What particle ``j`` within the support adds to the sums of a fluid particle
     ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
     as :func:`_sums_general` returns them. ``s``: the pair's smoothing length over the
     case's (:func:`sph.engine.kernels.pair_scale`; 1 at uniform resolution, where every
     value is that of ``s = 1`` to the last bit); the viscosity, its regularisation ``eps2``
-    and the diffusive term scale with it as with ``h``."""
+    and the diffusive term scale with it as with ``h``. Against a wall particle the pressure
+    sum is ``max(pwall + P_j, pfloor)`` (:func:`sph.engine.surface.wall_pair_terms`)."""
     fw, w = fw_scaled(r2, kp, s)
     rhoj = rho[j]
     vj = m[j] / rhoj
@@ -98,8 +104,8 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
         elif use_delta:
             diff = s * vj * fw * (-2.0 * (rhoj - rhoi)
                                   - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
-    else:  # a wall pushes and never pulls: fluid tension does not count
-        coef = -m[j] * (max(pi, 0.0) + p[j]) / (rhoi * rhoj)
+    else:  # numerics.wall_tension: by default a wall pushes and never pulls
+        coef = -m[j] * max(pwall + p[j], pfloor) / (rhoi * rhoj)
     return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
             vj * w)
 
@@ -107,7 +113,7 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
 @njit(**JIT)
 def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                   ncx, kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
-                  start, inner, inner_end):
+                  start, inner, inner_end, pwall, pfloor):
     """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
     through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
     shep)``: the pair accelerations, the velocity divergence sum, the diffusive sum and the
@@ -156,7 +162,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
                               kind, grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho,
-                              use_delta, s)
+                              use_delta, s, pwall, pfloor)
             accx += t[0]
             accz += t[1]
             div += t[2]
@@ -167,7 +173,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
 
 @njit(**JIT)
 def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, gx, gz,
-                   ddt_rho, op, kin, start, inner, inner_end, s):
+                   ddt_rho, op, kin, start, inner, inner_end, s, pwall, pfloor):
     """What the damage opening changes in the sums of fluid particle ``i`` (near the open
     opening) over those of its own compartment that the list loops take
     (:func:`_list_sums`): plus the fluid of another compartment seen through the opening
@@ -201,7 +207,7 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
                           p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False,
-                          s)
+                          s, pwall, pfloor)
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -256,7 +262,7 @@ def _list_sums(wendland: bool, diffusion: bool):
     """
 
     @njit(inline="always", **JIT_PAIR)
-    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s):
+    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor):
         h2 = kp[KP_H] * kp[KP_H] * s * s
         r2max = kp[KP_R2MAX] * s * s
         eps2 = 1.0e-4 * h2
@@ -273,7 +279,6 @@ def _list_sums(wendland: bool, diffusion: bool):
         rhoi = pk[i, PK_RHO]
         inv_rhoi = 1.0 / rhoi
         pi = pk[i, PK_P]
-        ppos = max(pi, 0.0)  # a wall pushes and never pulls
         ci = comp[i]
         accx = 0.0
         accz = 0.0
@@ -299,7 +304,9 @@ def _list_sums(wendland: bool, diffusion: bool):
             rhoj = pk[j, PK_RHO]
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
             div += vj * vr * fw
-            coef = -((pi if fluid else ppos) + pk[j, PK_P]) * vj * inv_rhoi
+            pj = pk[j, PK_P]
+            # numerics.wall_tension: max(pwall + pj, pfloor) against a wall particle
+            coef = -((pi + pj) if fluid else max(pwall + pj, pfloor)) * vj * inv_rhoi
             coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
             accx += coef * fw * dx
             accz += coef * fw * dz
@@ -325,7 +332,7 @@ _sums_wendland_diffusion = _list_sums(wendland=True, diffusion=True)
 @njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, pk, start, inner, inner_end, variable):
+             sx, sz, pk, start, inner, inner_end, variable, tension=CLAMP, surf=None):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
@@ -363,6 +370,13 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         :func:`pack_pair_data`).
     start, inner, inner_end : arrays
         The inner lists (:class:`sph.engine.neighbours.NeighbourList`).
+    tension : int
+        The rule of ``numerics.wall_tension`` for the pressure sum of a fluid and a wall
+        particle (:data:`sph.engine.surface.WALL_TENSION`; default ``CLAMP``: a wall never
+        pulls).
+    surf : bool array or None
+        The free-surface flags (:func:`sph.engine.surface.free_surface`) under
+        ``FREE_SURFACE``; None otherwise.
     """
     n = x.shape[0]
     pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk)
@@ -376,11 +390,12 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     for i in prange(n):
         if kind[i] != FLUID:
             continue
+        pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
         if general:
             accx, accz, div, diff, shep = _sums_general(
                 i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx,
                 kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
-                inner, inner_end)
+                inner, inner_end, pwall, pfloor)
         else:
             k0 = start[i]
             k1 = inner_end[i]
@@ -388,20 +403,20 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             s = hs[i] if variable else 1.0
             if gauss and use_delta:
                 accx, accz, div, diff, shep = _sums_gaussian_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
             elif gauss:
                 accx, accz, div, diff, shep = _sums_gaussian(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
             elif use_delta:
                 accx, accz, div, diff, shep = _sums_wendland_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
             else:
                 accx, accz, div, diff, shep = _sums_wendland(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s)
+                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
-                                   inner_end, s)
+                                   inner_end, s, pwall, pfloor)
                 accx += t[0]
                 accz += t[1]
                 div += t[2]
@@ -414,17 +429,18 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
 @njit(**JIT_PARALLEL)
 def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                        ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho,
-                       op, kin, shift, sx, sz):
+                       op, kin, shift, sx, sz, tension=CLAMP, surf=None):
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
     for i in prange(x.shape[0]):
         if kind[i] != FLUID:
             continue
+        pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
         accx, accz, div, diff, shep = _sums_general(
             i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
             visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
-            cell_of, cell_start)
+            cell_of, cell_start, pwall, pfloor)
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 

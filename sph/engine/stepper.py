@@ -50,6 +50,7 @@ from sph.engine.refinement import (
 )
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
+from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
 from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
 
 log = logging.getLogger(__name__)
@@ -156,6 +157,9 @@ class Stepper:
         self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
         self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
+        #: the pressure sum of fluid and wall particles (:mod:`sph.engine.surface`); the
+        #: free-surface flags are computed only when the rule needs them
+        self.tension = WALL_TENSION[num.wall_tension]
         #: damage opening parameters for the kernels (:mod:`sph.engine.opening`)
         self.op = (self.setup.opening.params if self.setup.opening is not None
                    else no_opening())
@@ -250,6 +254,9 @@ class Stepper:
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
         self._pk = pair_work(n)
+        need = self.tension == FREE_SURFACE
+        self._lam = np.ones(n) if need else None
+        self._surf = np.zeros(n, dtype=np.bool_) if need else None
 
     # ------------------------------------------------------------------ physics
     def _kinematics(self, t: float) -> None:
@@ -276,7 +283,12 @@ class Stepper:
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
-                      self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end)
+                      self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
+                      self.tension != NONE)
+        if self._surf is not None:
+            free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
+                         self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
+                         self._lam, self._surf)
         if self.delta_coef and not self.ddt_rho:
             renormalised_density_gradient(p.x, p.z, p.rho, p.m, p.kind, p.comp, p.hs,
                                           g.cell_of, g.cell_start, g.ncx, self.kp, self._grx,
@@ -285,7 +297,8 @@ class Stepper:
                  g.cell_of, g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
-                 self.nlist.inner, self.nlist.inner_end, self.variable)
+                 self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
+                 self._surf)
         if self.variable:  # a ghost moves with its interpolated velocity
             ghost = ~active_fluid(p) & (p.kind == FLUID)
             for a in (p.ax, p.az, p.drho, p.sx, p.sz):
@@ -294,7 +307,7 @@ class Stepper:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp,
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
-                        self.nlist.inner_end)
+                        self.nlist.inner_end, self.tension, self._surf)
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
 

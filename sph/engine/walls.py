@@ -31,6 +31,7 @@ from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
 from sph.engine.particles import GHOST, WALL
+from sph.engine.surface import CLAMP, wall_pair_terms
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
 
@@ -86,16 +87,16 @@ def _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max, op, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, b_coef,
-                  gamma, vol0, op, start, inner, inner_end):
+                  gamma, vol0, op, start, inner, inner_end, clamp=True):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0 hs^2`` (= dx^2 at its refinement level; walls
     are rigid), so its mass follows its density: ``m = rho vol0 hs^2``. ``hs``: each
     particle's smoothing length ratio, None at uniform resolution (1). Fluid seen through
     an open damage opening ``op`` does not count (:func:`sph.engine.opening.wall_hidden`).
-    The pressure is clamped at zero: a wall in tension would attract the fluid through
-    itself. The fluid neighbours come from the wall particle's inner list
-    ``inner[start[i]:inner_end[i]]``
+    The pressure is clamped at zero (``clamp``; all but ``numerics.wall_tension: none``): a
+    wall in tension would attract the fluid through itself. The fluid neighbours come from the wall
+    particle's inner list ``inner[start[i]:inner_end[i]]``
     (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
     the damaged hull's wall particles within reach of an open opening."""
     n = x.shape[0]
@@ -129,15 +130,16 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
             sw += w
             sp += w * (p[j] + rho[j] * (ex * dx + ez * dz))
         # a wall in tension would pull fluid through itself (a vortex core reaching a wall
-        # takes negative pressure with it); walls push, they do not pull
-        p[i] = max(sp / sw, 0.0) if sw > 1.0e-6 else 0.0
+        # takes negative pressure with it); walls push, they do not pull (unless wall_tension: none)
+        pb = sp / sw if sw > 1.0e-6 else 0.0
+        p[i] = max(pb, 0.0) if clamp else pb
         rho[i] = tait_density(p[i], rho0, b_coef, gamma)
         m[i] = rho[i] * vol0 * pair_scale(hs, i, i) ** 2
 
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, mom, pf,
-                scale, op, start, inner, inner_end):
+                scale, op, start, inner, inner_end, tension=CLAMP, surf=None):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -147,7 +149,9 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
     group's reference point. Writes into ``fx, fz, mom`` (length ``n_body``); ``pf`` is an
     ``(n, 3)`` work array for the per-particle values (reused between steps); the force of
     the fluid of compartment ``c`` is multiplied by ``scale[c]``. Neighbours as in
-    :func:`wall_pressure`."""
+    :func:`wall_pressure`. The pressure sum of a pair follows ``numerics.wall_tension`` as
+    in the momentum equation (``tension``, ``surf``: :func:`sph.engine.fluid.interact`), so
+    that the force on the body is the reaction of the force on the fluid."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
@@ -168,8 +172,9 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
                                             op, kin)
             if not ok or body[j] == GHOST:  # a ghost carries no mass (refinement)
                 continue
-            # as in the momentum equation, fluid tension does not pull on a wall
-            fw = f_scaled(r2, kp, s) * (p[i] + max(p[j], 0.0)) * m[j] / rho[j]
+            # the pressure sum as in the momentum equation (numerics.wall_tension)
+            pwall, pfloor = wall_pair_terms(p[j], tension, surf, j)
+            fw = f_scaled(r2, kp, s) * max(pwall + p[i], pfloor) * m[j] / rho[j]
             sx += fw * dx
             sz += fw * dz
         vi *= scale[ci]

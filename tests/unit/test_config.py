@@ -40,6 +40,8 @@ BAD_OVERRIDES = [
     ("kernel-cubic", "dam_break", ["numerics.kernel=cubic"], "numerics.kernel", True),
     ("filter-shepard", "still_water", ["numerics.density_filter=shepard"],
      "numerics.density_filter", True),
+    ("wall-tension-unknown", "still_water", ["numerics.wall_tension=eq6"],
+     "numerics.wall_tension", True),
     ("cfl-too-large", "still_water", ["numerics.cfl=0.9"], "numerics.cfl", True),
     ("c-factor-zero", "still_water", ["numerics.c_factor=0"], "numerics.c_factor", True),
     ("alpha-negative", "sloshing_rect", ["numerics.alpha=-1"], "numerics.alpha", True),
