@@ -49,9 +49,11 @@ box without the coarse mass leaving it: a still tank gained 2 % of its mass in 1
 family spreads a little while it lives: its ghosts move with the flow interpolated at
 their own places, so a level boundary is sharp to within that spread, and each level's
 lattice stays complete across it, its ghosts filling the other side.
-Fixed walls are built the same way at the initial refinement: their coarse layers are kept
-everywhere and fine ones added within the buffered box, so that the walls of every level
-are as fine as the fluid beside them.
+Walls are built the same way at the initial refinement: their coarse layers are kept
+and fine ones added, for a fixed wall within the buffered box, for a moving wall group
+(a hull, a flap) over the whole group if any of it is within reach, so that the walls of
+every level are as fine as the fluid beside them wherever the body moves. A wall's
+children split its layers into layers of half the spacing over the same band.
 
 The changes are made when the neighbour lists are rebuilt (:mod:`sph.engine.neighbours`: no
 particle has then moved more than half the lists' skin, a fraction of a fine spacing, since
@@ -124,6 +126,10 @@ def spawn(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
         cand = (own == lev) & (_targets(parts.x, parts.z, boxes, BUFFER * dx) > lev)
         if fluid_only:
             cand &= parts.kind == FLUID
+        else:  # a moving wall group is refined whole if any of it is in reach
+            moving = (parts.kind != FLUID) & (parts.body > 0)
+            touched = np.unique(parts.body[cand & moving])
+            cand |= (own == lev) & moving & np.isin(parts.body, touched)
         cand &= ~np.isin(parts.pid, parts.parent[own == lev + 1])
         idx = np.nonzero(cand)[0]
         if len(idx):

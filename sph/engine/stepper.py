@@ -208,8 +208,8 @@ class Stepper:
         return parts.hs if self.variable else None
 
     def _refine_initial(self) -> None:
-        """Split the fluid and the fixed walls inside the refinement boxes down to their
-        level; a box must overlap the domain and hold no moving wall."""
+        """Give the fluid and the walls inside the refinement boxes children down to their
+        level (:func:`spawn`, :func:`assign`); a box must overlap the domain."""
         xmin, xmax, zmin, zmax = self.setup.bounds
         p = self.parts
         for k, b in enumerate(self.cfg.numerics.refinement):
@@ -218,12 +218,6 @@ class Stepper:
                 raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
                                   f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
                                   f"[{zmin:g}, {zmax:g}] m")
-            inside = ((p.x >= b.x[0]) & (p.x <= b.x[1]) & (p.z >= b.z[0]) & (p.z <= b.z[1])
-                      & (p.kind != FLUID) & (p.body != 0))
-            if inside.any():
-                raise ConfigError(key, f"the box holds {int(inside.sum())} particles of a "
-                                  "moving wall; a refinement box may hold fluid and fixed "
-                                  "walls only")
         dx = self.cfg.numerics.dx
         parts, _ = spawn(p, self.boxes, dx, self._grad_rho(), fluid_only=False)
         self.parts, _ = assign(parts, self.boxes, dx)

@@ -20,6 +20,7 @@ from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, GHOST, Particles
 from sph.engine.refinement import (
     BUFFER,
+    _index_of,
     active_fluid,
     assign,
     ghost_fields,
@@ -271,11 +272,25 @@ def test_bad_refinement_boxes_are_refused(boxes, key, words):
     assert words in str(err.value)
 
 
-def test_a_box_around_a_moving_wall_is_refused():
+def test_a_moving_wall_in_a_box_is_refined_whole():
+    """A box that reaches part of the wavemaker's flap gives the whole flap its fine layers
+    (it may swing out of the box), in the flap's own frame, while the fixed walls get them
+    only within the box's buffer."""
     over = [("numerics.dx", 0.4), ("numerics.refinement",
-                                   [{"x": [-1.0, 3.0], "z": [-2.0, 40.0], "level": 1}])]
-    with pytest.raises(ConfigError, match="moving wall"):
-        Simulation(builtin("wave_tank", over))
+                                   [{"x": [-1.0, 3.0], "z": [-2.0, 10.0], "level": 1}])]
+    sim = Simulation(builtin("wave_tank", over))
+    p = sim.parts
+    lev = levels(p.hs)
+    flap = (p.kind != FLUID) & (p.body == 1)
+    assert (lev[flap] == 1).sum() == 4 * (lev[flap] == 0).sum() > 0
+    assert p.z[flap & (lev == 1)].max() > 30.0  # far above the box
+    fixed = (p.kind != FLUID) & (p.body == 0) & (lev == 1)
+    assert fixed.sum() > 0 and p.x[fixed].max() < 3.0 + BUFFER * 0.2 + 1e-9
+    # the children sit at +-dx / 4 from their parent in the flap's frame
+    kids = np.nonzero(flap & (lev == 1))[0]
+    mother, _ = _index_of(p.pid, p.parent[kids])
+    np.testing.assert_allclose(np.abs(p.bx[kids] - p.bx[mother]), 0.1, atol=1e-12)
+    np.testing.assert_allclose(np.abs(p.bz[kids] - p.bz[mother]), 0.1, atol=1e-12)
 
 
 def test_restart_with_refinement_continues_bit_for_bit():
