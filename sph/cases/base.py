@@ -59,6 +59,9 @@ class CaseSetup:
     force_scale : array or None
         Factor on the fluid force on walls facing each compartment (index = compartment id);
         ones if None (a cargo of another density, :mod:`sph.cases.ship`).
+    refinement : list
+        Refinement boxes the case sets itself (:class:`sph.engine.config.RefinementBox`,
+        e.g. around a hull), added to ``numerics.refinement``.
     """
 
     particles: Particles
@@ -70,6 +73,7 @@ class CaseSetup:
     absorber: np.ndarray = field(default_factory=lambda: np.zeros(6))
     still_level: float | None = None
     bodies: list = field(default_factory=list)
+    refinement: list = field(default_factory=list)
     events: list = field(default_factory=list)
     extra_probes: dict[str, tuple] = field(default_factory=dict)
     opening: Any = None

@@ -60,7 +60,7 @@ from sph.cases.base import (
 )
 from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
-from sph.engine.config import CaseConfig
+from sph.engine.config import MAX_LEVEL, CaseConfig, RefinementBox
 from sph.engine.opening import pack_opening, sdf_many, set_circle
 from sph.engine.particles import FLUID
 from sph.engine.probes import surface_heights
@@ -105,6 +105,12 @@ class Geometry:
     dofs: DofConfig
     wavemaker: FlapConfig
     absorber: AbsorberConfig
+    refine_hull: int = spec(0, lo=0, hi=MAX_LEVEL,
+                            doc="refinement level around each hull, its cabins and its "
+                            "opening (0: none; dx / 2**level there; sph.engine.refinement)")
+    refine_margin: float = spec(4.0, lo=0.0, hi=1.0e3, unit="m",
+                                doc="the finest box reaches this far beyond the hull's "
+                                "breadth, keel and deck (room for its heave and roll)")
 
 
 # ------------------------------------------------------------------------------ checks
@@ -332,6 +338,28 @@ def _cargo_columns(hull, fill, dx, inner):
     return np.concatenate(pts), np.concatenate(vols), level
 
 
+def hull_boxes(g, dx: float, pitch: float, n_seg: int) -> list[RefinementBox]:
+    """Refinement boxes around each segment's hull (``geometry.refine_hull``): one of that
+    level reaching ``refine_margin`` beyond the hull's breadth, keel and deck, inside one of
+    each coarser level that is wider by the finer level's buffer of ghosts and one spacing
+    of its own (:data:`sph.engine.refinement.BUFFER`), so that every buffer lies in the
+    next coarser box."""
+    from sph.engine.refinement import BUFFER
+
+    out = []
+    hull = g.hull
+    keel = g.depth - hull.draught
+    for s in range(n_seg):
+        xc = g.ship_x + s * pitch
+        grow = g.refine_margin
+        for level in range(g.refine_hull, 0, -1):
+            out.append(RefinementBox(x=(xc - 0.5 * hull.breadth - grow,
+                                        xc + 0.5 * hull.breadth + grow),
+                                     z=(keel - grow, keel + hull.depth + grow), level=level))
+            grow += (BUFFER + 2.0) * dx * 2.0 ** -level
+    return out
+
+
 def setup(cfg: CaseConfig) -> CaseSetup:
     g, dx = cfg.geometry, cfg.numerics.dx
     hull, rho0 = g.hull, cfg.fluid.rho0
@@ -495,6 +523,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
                  opening_wall_particles=len(opening.opening_pids) if opening else 0)
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
+                       refinement=hull_boxes(g, dx, pitch, n_seg),
                        diagnostics=diagnostics, attrs=attrs,
                        absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch),
                        still_level=g.depth, extra_probes=extra, opening=opening,

@@ -132,14 +132,16 @@ class Stepper:
         self.grid = CellGrid(*self.setup.bounds, self.list_radius)
         self.gx, self.gz = 0.0, -fl.gravity
         #: refinement boxes (:mod:`sph.engine.refinement`); none: uniform resolution
-        self.boxes = pack_boxes(num.refinement)
+        self._box_list = list(num.refinement) + list(self.setup.refinement)
+        self.boxes = pack_boxes(self._box_list)
         self.variable = len(self.boxes) > 0
         if self.variable:
             log.warning("numerics.refinement: variable resolution is experimental "
                         "(docs/model.md, 'Variable resolution')")
             self._refine_initial()
         #: the finest level's smoothing length ratio: the time step and the lists' skins
-        self.hs_min = 2.0 ** -num.max_level
+        self.max_level = max((b.level for b in self._box_list), default=0)
+        self.hs_min = 2.0 ** -self.max_level
         #: children made and ghosts removed (:mod:`sph.engine.refinement`) so far
         self.n_spawned = 0
         self.n_removed = 0
@@ -212,8 +214,10 @@ class Stepper:
         level (:func:`spawn`, :func:`assign`); a box must overlap the domain."""
         xmin, xmax, zmin, zmax = self.setup.bounds
         p = self.parts
-        for k, b in enumerate(self.cfg.numerics.refinement):
-            key = f"numerics.refinement[{k}]"
+        n_cfg = len(self.cfg.numerics.refinement)
+        for k, b in enumerate(self._box_list):
+            key = (f"numerics.refinement[{k}]" if k < n_cfg
+                   else "the case's refinement (geometry.refine_hull)")
             if b.x[1] <= xmin or b.x[0] >= xmax or b.z[1] <= zmin or b.z[0] >= zmax:
                 raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
                                   f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
@@ -437,7 +441,7 @@ class Stepper:
         }
         if self.variable:
             values["fluid_mass"] = float(np.sum(m))
-            values["n_particles_level"] = level_counts(p, self.cfg.numerics.max_level)
+            values["n_particles_level"] = level_counts(p, self.max_level)
         if self.bodies:
             values.update(self.bodies[0].motions())
             forces = np.array([b.force for b in self.bodies])
