@@ -184,10 +184,12 @@ def check(cfg: CaseConfig) -> None:
             raise ConfigError("geometry.damage.opening", f"the opening's top edge ({top:g} m "
                               f"above the keel) is above the waterline (draught "
                               f"{hull.draught:g} m); allowed (0, {allowed:.4g})")
-        check_aperture(hull, g.damage.opening, dx)
-    if g.fill > 0.0 and g.fill * hull.depth < dx:
+        check_aperture(hull, g.damage.opening, dx, g.refine_hull)
+    dx_hull = dx / 2**g.refine_hull  # the spacing at the hull (geometry.refine_hull)
+    if g.fill > 0.0 and g.fill * hull.depth < dx_hull:
         raise ConfigError("geometry.fill", f"cargo height fill * D = {g.fill * hull.depth:g} m "
-                          f"is below one particle spacing ({dx:g} m); use 0 or a larger fill")
+                          f"is below one particle spacing ({dx_hull:g} m); use 0 or a larger "
+                          "fill")
     if g.fill * hull.depth >= hull.depth - 2 * hull.plating:
         raise ConfigError("geometry.fill", f"must leave room below the deck; got {g.fill:g}")
     masses(cfg)
@@ -207,12 +209,17 @@ def check(cfg: CaseConfig) -> None:
 APERTURE_WARN_SPACINGS = 4.0
 
 
-def check_aperture(hull: HullConfig, opening: float, dx: float) -> float:
+def check_aperture(hull: HullConfig, opening: float, dx: float, level: int = 0) -> float:
     """Refuse an opening whose aperture (:func:`sph.bodies.hull.opening_aperture`, the gap
     between its edges) is narrower than one particle spacing, and warn below
     ``APERTURE_WARN_SPACINGS`` spacings: fewer particles abreast than that resolve the
-    jet's contraction at the edges poorly, and the inflow with them. Returns the aperture.
+    jet's contraction at the edges poorly, and the inflow with them. ``level``: the hull's
+    refinement level (``geometry.refine_hull``), whose spacing is ``dx / 2**level``. Returns
+    the aperture.
     """
+    at = (f"numerics.dx = {dx:g} m" if level == 0 else
+          f"the hull's spacing {dx / 2**level:g} m (numerics.dx / 2**geometry.refine_hull)")
+    dx = dx / 2**level
     z0 = opening_bottom(hull)
     z1 = hull.plating + opening * hull.draught
     aperture = opening_aperture(hull, z0, z1)
@@ -220,13 +227,13 @@ def check_aperture(hull: HullConfig, opening: float, dx: float) -> float:
     if spacings < 1.0:
         raise ConfigError("geometry.damage.opening", f"the opening {opening:.4g} (delta = "
                           f"{opening * hull.draught:.3g} m) has an aperture of {aperture:.3g} "
-                          f"m, narrower than one particle spacing (numerics.dx = {dx:g} m): "
-                          f"use a larger opening or numerics.dx <= {aperture:.3g} m")
+                          f"m, narrower than one particle spacing ({at}): use a larger "
+                          f"opening or a spacing <= {aperture:.3g} m there")
     if spacings < APERTURE_WARN_SPACINGS:
         log.warning("the damage opening %.4g (delta = %.3g m) has an aperture of %.3g m, "
-                    "%.3g particle spacings at numerics.dx = %g m: its inflow is "
-                    "under-resolved (%g or more recommended: numerics.dx <= %.3g m)",
-                    opening, opening * hull.draught, aperture, spacings, dx,
+                    "%.3g particle spacings at %s: its inflow is under-resolved (%g or more "
+                    "recommended: a spacing <= %.3g m there, or geometry.refine_hull)",
+                    opening, opening * hull.draught, aperture, spacings, at,
                     APERTURE_WARN_SPACINGS, aperture / APERTURE_WARN_SPACINGS)
     return aperture
 

@@ -320,3 +320,38 @@ def test_restart_with_refinement_continues_bit_for_bit():
     assert (second.n_spawned, second.n_removed) == (whole.n_spawned, whole.n_removed)
     np.testing.assert_array_equal(second.parts.f, whole.parts.f)
     np.testing.assert_array_equal(second.parts.i, whole.parts.i)
+
+
+def test_the_ship_refined_around_its_hull():
+    """``geometry.refine_hull`` puts each hull with its cabins and opening in a box of that
+    level: the hull's wall groups get their fine layers whole, the fluid in the cabins and
+    around the hull is active at the fine level, the flap far away stays coarse, and the
+    active mass is kept over the first steps."""
+    over = ["numerics.dx=0.8", "geometry.depth=15", "geometry.tank_length=70",
+            "geometry.ship_x=30", "geometry.tank_height=30", "geometry.absorber.start=50",
+            "geometry.absorber.length=20", "geometry.fill=0.5", "geometry.refine_hull=1",
+            "numerics.threads=2"]
+    sim = Simulation(builtin("damaged_ship", over))
+    sim.evaluate()
+    p = sim.parts
+    lev = levels(p.hs)
+    groups = np.unique(p.body[(p.kind != FLUID) & (p.body > 0)])
+    refined = [b for b in groups if np.any((p.body == b) & (lev == 1))]
+    pitch = sim.setup.attrs["segment_pitch"]
+    hulls = [b for b in groups if abs(np.median(p.x[p.body == b]) % pitch - 30.0) < 10.0]
+    assert refined == hulls and len(hulls) == 2  # both hull segments, not the flaps
+    for b in refined:
+        wall = (p.kind != FLUID) & (p.body == b)
+        assert (wall & (lev == 1)).sum() == 4 * (wall & (lev == 0)).sum()
+    a = active_fluid(p)
+    cabins = a & (p.comp % 2 == 1)  # each segment's sea is 2 s, its cabin 2 s + 1
+    assert cabins.sum() > 0 and np.all(lev[cabins] == 1)
+    near = a & (np.abs(p.x % pitch - 30.0) < 8.0) & (p.z > 9.0) & (p.comp % 2 == 0)
+    assert near.sum() > 0 and np.all(lev[near] == 1)
+    assert np.all(lev[a & (np.abs(p.x % pitch - 30.0) > 20.0)] == 0)
+    mass = math.fsum(p.m[a])
+    for _ in range(30):
+        sim.advance()
+    a = active_fluid(sim.parts)
+    assert math.fsum(sim.parts.m[a]) == pytest.approx(mass, rel=1e-13)
+    assert np.all(np.isfinite(sim.parts.ax[a]))
