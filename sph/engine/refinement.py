@@ -74,6 +74,9 @@ from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
 
 #: columns of the packed boxes (:func:`pack_boxes`)
 BX_XMIN, BX_XMAX, BX_ZMIN, BX_ZMAX, BX_LEVEL = range(5)
+#: a ghost's fields are a first-order fit where the active particles fill at least this
+#: much of its kernel (sum of V W), the Shepard mean elsewhere (:func:`ghost_fields`)
+MLS_SUPPORT = 0.8
 #: width of the buffer of ghosts around a box, in its level's spacings: the kernel
 #: support (3 h = 3.7 spacings for the Gaussian) with the lists' skin, plus one spacing
 BUFFER = 5.5
@@ -214,8 +217,11 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
               A_g = \sum_j \mathbf{b}_j\mathbf{b}_j^T W_j V_j
 
     (as the density filter, :func:`sph.engine.filters.mls_density`), exact for a linear
-    field; the Shepard mean where :math:`A_g` is near singular. Both leapfrog levels take
-    the fitted values; a ghost with no active particle in reach keeps its own."""
+    field; the Shepard mean where :math:`A_g` is near singular or the kernel is less than
+    :data:`MLS_SUPPORT` full (at a free surface or a splash a linear fit extrapolates, and
+    a ghost given a wild velocity would carry it when its family turns active there). Both
+    leapfrog levels take the fitted values; a ghost with no active particle in reach keeps
+    its own."""
     r2max = kp[KP_R2MAX]
     for i in prange(x.shape[0]):
         if kind[i] != FLUID or body[i] != GHOST:
@@ -260,7 +266,7 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
         c12 = -(a12 * a33 - a13 * a23)
         c13 = a12 * a23 - a13 * a22
         det = a11 * c11 + a12 * c12 + a13 * c13
-        if det > 1.0e-3 * a11 * a22 * a33 and det > 0.0:
+        if a11 > MLS_SUPPORT and det > 1.0e-3 * a11 * a22 * a33 and det > 0.0:
             rho[i] = (c11 * r0 + c12 * r1 + c13 * r2_) / det
             vx[i] = (c11 * u0 + c12 * u1 + c13 * u2) / det
             vz[i] = (c11 * w0 + c12 * w1 + c13 * w2) / det
