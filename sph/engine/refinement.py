@@ -206,8 +206,25 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, i
 
 
 @njit(**JIT_PARALLEL)
+def ghosts_in_reach(start, index, kind, body, out):
+    """Mark the ghosts that an active particle of their level may reach before the lists
+    are rebuilt (one in their Verlet list: the lists hold one level): only their density
+    and velocity act on the fluid at every step; the others, deep in a finer box or far
+    out in a buffer, need their velocity only to move along."""
+    for i in prange(out.shape[0]):
+        out[i] = False
+        if kind[i] != FLUID or body[i] != GHOST:
+            continue
+        for k in range(start[i], start[i + 1]):
+            j = index[k]
+            if kind[j] == FLUID and body[j] != GHOST:
+                out[i] = True
+                break
+
+
+@njit(**JIT_PARALLEL)
 def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp, hs,
-                 cell_of, cell_start, ncx, kp, op, kin):
+                 cell_of, cell_start, ncx, kp, op, kin, reach, every):
     r"""Density and velocity of every ghost (:data:`sph.engine.particles.GHOST`) from the
     active fluid particles around it, of every level, each with its own kernel: the
     first-order moving least squares fit
@@ -221,10 +238,12 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     :data:`MLS_SUPPORT` full (at a free surface or a splash a linear fit extrapolates, and
     a ghost given a wild velocity would carry it when its family turns active there). Both
     leapfrog levels take the fitted values; a ghost with no active particle in reach keeps
-    its own."""
+    its own. Only the ghosts marked in ``reach`` (:func:`ghosts_in_reach`) are fitted,
+    unless ``every`` (the steps the lists are rebuilt at: the others move with the velocity
+    of their last fit in between)."""
     r2max = kp[KP_R2MAX]
     for i in prange(x.shape[0]):
-        if kind[i] != FLUID or body[i] != GHOST:
+        if kind[i] != FLUID or body[i] != GHOST or not (every or reach[i]):
             continue
         xi = x[i]
         zi = z[i]

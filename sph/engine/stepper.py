@@ -44,6 +44,7 @@ from sph.engine.refinement import (
     active_fluid,
     assign,
     ghost_fields,
+    ghosts_in_reach,
     level_counts,
     pack_boxes,
     spawn,
@@ -276,7 +277,7 @@ class Stepper:
         if self.variable:
             ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
                          p.kind, p.body, p.comp, p.hs, g.cell_of, g.cell_start, g.ncx, self.kp,
-                         self.op, self.kin)
+                         self.op, self.kin, self._reach, self._rebuilt)
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
@@ -316,6 +317,7 @@ class Stepper:
         p, g, nl = self.parts, self.grid, self.nlist
         # the skins of the finest pairs are the thinnest (lists scale with the pair's h)
         half_skin = 0.5 * (self.list_radius - self.scales.support) * self.hs_min
+        self._rebuilt = False
         if self._listed is p and not moved_or_outside(p.x, p.z, p.x_sort, p.z_sort,
                                                       half_skin * half_skin, *g.bounds):
             half_inner = 0.5 * (self.inner_radius - self.scales.support) * self.hs_min
@@ -336,6 +338,15 @@ class Stepper:
         nl.build(p.x, p.z, p.kind, g, self.list_radius, self._hs(p))
         self._refresh_inner()
         self._listed = p
+        self._mark_ghosts()
+        self._rebuilt = True
+
+    def _mark_ghosts(self) -> None:
+        """The ghosts within reach of active particles (:func:`ghosts_in_reach`)."""
+        p = self.parts
+        self._reach = np.zeros(p.n, dtype=np.bool_)
+        if self.variable:
+            ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
 
     def _refresh_inner(self) -> None:
         p = self.parts
@@ -542,3 +553,4 @@ class Stepper:
                          hs)
         self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, hs)
         self._listed = parts
+        self._mark_ghosts()

@@ -159,7 +159,7 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     kind = np.zeros(n, np.int32)
     ghost_fields(x, z, work["vx"], work["vz"], work["rho"], old["vx"], old["vz"], old["rho"],
                  m, kind, body, kind, hs, grid.cell_of, grid.cell_start, grid.ncx, kp,
-                 no_opening(), fixed_kinematics(1))
+                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True)
     for k, v in fields.items():
         np.testing.assert_allclose(work[k][full], v[full], rtol=0,
                                    atol=1e-9 * np.abs(v).max(), err_msg=k)

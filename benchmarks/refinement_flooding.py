@@ -1,0 +1,105 @@
+"""Still-water flooding of the damaged ship refined around its hull against uniform runs.
+
+The still-water flooding case of ``tests/physics/test_ship.py`` (a 70 m tank 15 m deep, the
+ship at x = 30 m, the 0.9 opening on the back side opening at t1 = 0.16 wave periods =
+1.0 s, no waves, empty cabins) at a uniform dx = 0.8 m (``coarse``), a uniform 0.4 m
+(``fine``) and 0.8 m with ``geometry.refine_hull = 1`` (``refined``: 0.4 m around the hull).
+
+    python benchmarks/refinement_flooding.py run --mode refined --out DIR [--t-end 30]
+    python benchmarks/refinement_flooding.py report DIR
+
+``report`` compares the flooded fraction of the cabin Q / V (``flood_ratio``), the heave
+and the heel with the fine run at every output time after t1, prints the largest
+differences and writes ``DIR/refinement_flooding.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from sph.cases import builtin
+from sph.driver import Simulation
+
+MODES = {"coarse": (0.8, 0), "fine": (0.4, 0), "refined": (0.8, 1)}
+
+
+def case(mode: str, t_end: float, threads: int):
+    dx, level = MODES[mode]
+    return builtin("damaged_ship", [
+        f"numerics.dx={dx}", f"geometry.refine_hull={level}", "geometry.depth=15",
+        "geometry.tank_length=70", "geometry.ship_x=30", "geometry.tank_height=30",
+        "geometry.absorber.start=50", "geometry.absorber.length=20",
+        "geometry.wavemaker.amplitude=null", "geometry.wavemaker.theta0=0",
+        "run.output_interval=0.1", "geometry.fill=0", "geometry.damage.opening=0.9",
+        "geometry.damage.side=back", "geometry.damage.time_periods=0.16",
+        f"run.t_end={t_end}", f"numerics.threads={threads}"])
+
+
+def run(args) -> None:
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    sim = Simulation(case(args.mode, args.t_end, args.threads))
+    t0 = time.perf_counter()
+    sim.run(out / f"flood_{args.mode}.nc")
+    print(f"{args.mode}: {sim.step} steps, {time.perf_counter() - t0:.0f} s, "
+          f"{sim.n_lost} particles lost")
+
+
+def _series(ds):
+    return (ds["time"].values, ds["flood_ratio"].values, ds["heave"].values,
+            ds["roll"].values)
+
+
+def report(args) -> None:
+    d = Path(args.dir)
+    runs = {m: xr.open_dataset(d / f"flood_{m}.nc") for m in MODES
+            if (d / f"flood_{m}.nc").exists()}
+    tf, qf, hf, rf = _series(runs["fine"])
+    t1 = runs["fine"].attrs["damage_time"]
+    result = {}
+    for mode, ds in runs.items():
+        t, q, heave, roll = _series(ds)
+        n = min(len(t), len(tf))
+        after = tf[:n] > t1
+        dq = np.abs(q[:n] - qf[:n])[after]
+        result[mode] = dict(
+            t_end=float(t[n - 1]), status=ds.attrs.get("status", ""),
+            wall_seconds=float(ds.attrs.get("wall_clock_seconds", 0.0)),
+            q_final=float(q[n - 1]), q_fine_final=float(qf[n - 1]),
+            dq_max=float(dq.max()),
+            dq_rel_max_after_half=float(np.max(dq[qf[:n][after] > 0.5 * qf[n - 1]]
+                                               / qf[:n][after][qf[:n][after] > 0.5 * qf[n - 1]])),
+            heave_diff_max=float(np.max(np.abs(heave[:n] - hf[:n])[after])),
+            heel_diff_max_deg=float(np.max(np.abs(roll[:n] - rf[:n])[after])))
+        r = result[mode]
+        print(f"{mode}: to t = {r['t_end']:.1f} s ({r['status']}), Q/V {r['q_final']:.3f} "
+              f"(fine {r['q_fine_final']:.3f}), largest |dQ/V| {r['dq_max']:.3f}, relative "
+              f"{r['dq_rel_max_after_half']:.3f} once half full; heave {r['heave_diff_max']:.3f} m;"
+              f" heel {r['heel_diff_max_deg']:.2f} degree; {r['wall_seconds']:.0f} s")
+    (d / "refinement_flooding.json").write_text(json.dumps(result, indent=1))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--mode", choices=sorted(MODES), required=True)
+    r.add_argument("--out", required=True)
+    r.add_argument("--t-end", type=float, default=30.0)
+    r.add_argument("--threads", type=int, default=1)
+    r.set_defaults(fn=run)
+    p = sub.add_parser("report")
+    p.add_argument("dir")
+    p.set_defaults(fn=report)
+    args = ap.parse_args()
+    args.fn(args)
+
+
+if __name__ == "__main__":
+    main()
