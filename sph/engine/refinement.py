@@ -298,6 +298,16 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
         vz_old[i] = vz[i]
 
 
+def wall_regions(x, z, kind, body, hs, boxes) -> np.ndarray:
+    """Mask of the wall particles of moving groups (``body > 0``) that lie in their own
+    level's region: those whose forces count for their body."""
+    moving = np.nonzero((kind != FLUID) & (body > 0))[0]
+    out = np.zeros(x.shape[0], dtype=bool)
+    region = _targets(x[moving], z[moving], boxes, 0.0)
+    out[moving] = region == levels(hs[moving])
+    return out
+
+
 def levels(hs: np.ndarray) -> np.ndarray:
     """Refinement level of each particle from its smoothing length ratio ``hs``."""
     return np.rint(-np.log2(hs)).astype(np.int32)

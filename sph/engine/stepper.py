@@ -48,6 +48,7 @@ from sph.engine.refinement import (
     level_counts,
     pack_boxes,
     spawn,
+    wall_regions,
 )
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
@@ -307,8 +308,22 @@ class Stepper:
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
                         self.nlist.inner_end, self.tension, self._surf)
+            if self.variable:
+                self._forces_by_region()
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
+
+    def _forces_by_region(self) -> None:
+        """Under refinement a moving body carries wall layers of every level. Its force
+        and moment are those of the wall particles in their own level's region
+        (:func:`sph.engine.refinement.wall_regions`): a coarse wall particle inside a
+        finer box would add, from the coarse fluid across the box's edge, a push that the
+        fine fluid already gives the fine wall particles there."""
+        p = self.parts
+        own = wall_regions(p.x, p.z, p.kind, p.body, p.hs, self.boxes)
+        nb = len(self.kin)
+        for k, out in enumerate((self._fx, self._fz, self._mom)):
+            out[:] = np.bincount(p.body[own], weights=self._pf[own, k], minlength=nb)[:nb]
 
     def _neighbours(self) -> None:
         """Sort by cell and rebuild the Verlet lists when a particle has moved half the skin

@@ -28,6 +28,7 @@ from sph.engine.refinement import (
     levels,
     pack_boxes,
     spawn,
+    wall_regions,
 )
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
@@ -346,9 +347,12 @@ def test_the_ship_refined_around_its_hull():
     pitch = sim.setup.attrs["segment_pitch"]
     hulls = [b for b in groups if abs(np.median(p.x[p.body == b]) % pitch - 30.0) < 10.0]
     assert refined == hulls and len(hulls) == 2  # both hull segments, not the flaps
+    own = wall_regions(p.x, p.z, p.kind, p.body, p.hs, sim.boxes)
     for b in refined:
         wall = (p.kind != FLUID) & (p.body == b)
         assert (wall & (lev == 1)).sum() == 4 * (wall & (lev == 0)).sum()
+        # inside its box the hull's force is its fine layers' alone
+        assert np.array_equal(own[wall], lev[wall] == 1)
     a = active_fluid(p)
     cabins = a & (p.comp % 2 == 1)  # each segment's sea is 2 s, its cabin 2 s + 1
     assert cabins.sum() > 0 and np.all(lev[cabins] == 1)
