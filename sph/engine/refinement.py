@@ -222,9 +222,65 @@ def ghosts_in_reach(start, index, kind, body, out):
                 break
 
 
+@njit(inline="always", **JIT)
+def _source(i, j, x, z, kind, body, hs, r2list):
+    """Whether active fluid particle ``j`` lies within its own kernel's list radius of
+    ghost ``i``."""
+    if kind[j] != FLUID or body[j] == GHOST:
+        return False
+    dx = x[i] - x[j]
+    dz = z[i] - z[j]
+    return dx * dx + dz * dz < r2list * hs[j] * hs[j]
+
+
+@njit(**JIT_PARALLEL)
+def _count_sources(x, z, kind, body, hs, cell_of, cell_start, ncx, r2list, start):
+    n = x.shape[0]
+    for i in prange(n):
+        cnt = 0
+        if kind[i] == FLUID and body[i] == GHOST:
+            c = cell_of[i]
+            for row in (c - ncx, c, c + ncx):
+                for j in range(cell_start[row - 1], cell_start[row + 2]):
+                    cnt += 1 if _source(i, j, x, z, kind, body, hs, r2list) else 0
+        start[i + 1] = cnt
+    start[0] = 0
+    for i in range(n):
+        start[i + 1] += start[i]
+
+
+@njit(**JIT_PARALLEL)
+def _fill_sources(x, z, kind, body, hs, cell_of, cell_start, ncx, r2list, start, index):
+    for i in prange(x.shape[0]):
+        if kind[i] != FLUID or body[i] != GHOST:
+            continue
+        k = start[i]
+        c = cell_of[i]
+        for row in (c - ncx, c, c + ncx):
+            for j in range(cell_start[row - 1], cell_start[row + 2]):
+                if _source(i, j, x, z, kind, body, hs, r2list):
+                    index[k] = j
+                    k += 1
+
+
+def ghost_sources(x, z, kind, body, hs, grid, radius) -> tuple[np.ndarray, np.ndarray]:
+    """For each ghost, the active fluid particles within ``radius`` (the lists' radius)
+    times their own smoothing length ratio, in cell order (particles sorted by ``grid``):
+    ``index[start[i]:start[i + 1]]``. Built with the Verlet lists and valid as long as
+    they are; :func:`ghost_fields` visits these instead of the cells."""
+    n = x.shape[0]
+    start = np.zeros(n + 1, dtype=np.int64)
+    r2 = radius * radius
+    _count_sources(x, z, kind, body, hs, grid.cell_of, grid.cell_start, grid.ncx, r2, start)
+    index = np.empty(int(start[n]), dtype=np.int64)
+    _fill_sources(x, z, kind, body, hs, grid.cell_of, grid.cell_start, grid.ncx, r2, start,
+                  index)
+    return start, index
+
+
 @njit(**JIT_PARALLEL)
 def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp, hs,
-                 cell_of, cell_start, ncx, kp, op, kin, reach, every):
+                 src_start, src_index, kp, op, kin, reach, every):
     r"""Density and velocity of every ghost (:data:`sph.engine.particles.GHOST`) from the
     active fluid particles around it, of every level, each with its own kernel: the
     first-order moving least squares fit
@@ -240,7 +296,8 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     leapfrog levels take the fitted values; a ghost with no active particle in reach keeps
     its own. Only the ghosts marked in ``reach`` (:func:`ghosts_in_reach`) are fitted,
     unless ``every`` (the steps the lists are rebuilt at: the others move with the velocity
-    of their last fit in between)."""
+    of their last fit in between). The candidates are the ghost's sources
+    ``src_index[src_start[i]:src_start[i + 1]]`` (:func:`ghost_sources`)."""
     r2max = kp[KP_R2MAX]
     for i in prange(x.shape[0]):
         if kind[i] != FLUID or body[i] != GHOST or not (every or reach[i]):
@@ -250,35 +307,32 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
         ci = comp[i]
         a11 = a12 = a13 = a22 = a23 = a33 = 0.0
         r0 = r1 = r2_ = u0 = u1 = u2 = w0 = w1 = w2 = 0.0
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if kind[j] != FLUID or body[j] == GHOST:
-                    continue
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                s = hs[j]
-                if r2 >= r2max * s * s:
-                    continue
-                if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
-                    continue
-                vw = w_scaled(r2, kp, s) * m[j] / rho[j]
-                a11 += vw
-                a12 += vw * dx
-                a13 += vw * dz
-                a22 += vw * dx * dx
-                a23 += vw * dx * dz
-                a33 += vw * dz * dz
-                r0 += vw * rho[j]
-                r1 += vw * rho[j] * dx
-                r2_ += vw * rho[j] * dz
-                u0 += vw * vx[j]
-                u1 += vw * vx[j] * dx
-                u2 += vw * vx[j] * dz
-                w0 += vw * vz[j]
-                w1 += vw * vz[j] * dx
-                w2 += vw * vz[j] * dz
+        for k in range(src_start[i], src_start[i + 1]):
+            j = src_index[k]
+            dx = xi - x[j]
+            dz = zi - z[j]
+            r2 = dx * dx + dz * dz
+            s = hs[j]
+            if r2 >= r2max * s * s:
+                continue
+            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+                continue
+            vw = w_scaled(r2, kp, s) * m[j] / rho[j]
+            a11 += vw
+            a12 += vw * dx
+            a13 += vw * dz
+            a22 += vw * dx * dx
+            a23 += vw * dx * dz
+            a33 += vw * dz * dz
+            r0 += vw * rho[j]
+            r1 += vw * rho[j] * dx
+            r2_ += vw * rho[j] * dz
+            u0 += vw * vx[j]
+            u1 += vw * vx[j] * dx
+            u2 += vw * vx[j] * dz
+            w0 += vw * vz[j]
+            w1 += vw * vz[j] * dx
+            w2 += vw * vz[j] * dz
         if a11 <= 0.0:
             continue
         c11 = a22 * a33 - a23 * a23

@@ -44,6 +44,7 @@ from sph.engine.refinement import (
     active_fluid,
     assign,
     ghost_fields,
+    ghost_sources,
     ghosts_in_reach,
     level_counts,
     pack_boxes,
@@ -277,8 +278,8 @@ class Stepper:
         fl = self.cfg.fluid
         if self.variable:
             ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
-                         p.kind, p.body, p.comp, p.hs, g.cell_of, g.cell_start, g.ncx, self.kp,
-                         self.op, self.kin, self._reach, self._rebuilt)
+                         p.kind, p.body, p.comp, p.hs, *self._sources, self.kp, self.op,
+                         self.kin, self._reach, self._rebuilt)
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
@@ -357,11 +358,15 @@ class Stepper:
         self._rebuilt = True
 
     def _mark_ghosts(self) -> None:
-        """The ghosts within reach of active particles (:func:`ghosts_in_reach`)."""
+        """The ghosts within reach of active particles (:func:`ghosts_in_reach`) and the
+        particles each ghost is fitted from (:func:`ghost_sources`), at the positions the
+        lists were built at."""
         p = self.parts
         self._reach = np.zeros(p.n, dtype=np.bool_)
         if self.variable:
             ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
+            self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs,
+                                          self.grid, self.list_radius)
 
     def _refresh_inner(self) -> None:
         p = self.parts

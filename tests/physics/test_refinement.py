@@ -24,6 +24,7 @@ from sph.engine.refinement import (
     active_fluid,
     assign,
     ghost_fields,
+    ghost_sources,
     level_counts,
     levels,
     pack_boxes,
@@ -159,7 +160,8 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     old = {k: np.zeros(n) for k in fields}
     kind = np.zeros(n, np.int32)
     ghost_fields(x, z, work["vx"], work["vz"], work["rho"], old["vx"], old["vz"], old["rho"],
-                 m, kind, body, kind, hs, grid.cell_of, grid.cell_start, grid.ncx, kp,
+                 m, kind, body, kind, hs,
+                 *ghost_sources(x, z, kind, body, hs, grid, support * 1.15), kp,
                  no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True)
     for k, v in fields.items():
         np.testing.assert_allclose(work[k][full], v[full], rtol=0,
