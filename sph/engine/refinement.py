@@ -174,9 +174,30 @@ def _index_of(pid: np.ndarray, wanted: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return order[k], found
 
 
+def _anchor(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> None:
+    """Move every ghost that has active descendants to their centre of mass, so that a
+    family's level-0 particle, whose place decides the family's level, stays with the
+    particles that carry its mass: moved by the flow interpolated at its own place, it
+    drifted from them where they split (a flooding jet), and a fine particle far from its
+    family's box, with no fine neighbours or walls, fell through the tank floor."""
+    acc = np.zeros((parts.n, 3))
+    act = fluid & (parts.body != GHOST)
+    acc[act, 0] = parts.m[act]
+    acc[act, 1] = parts.m[act] * parts.x[act]
+    acc[act, 2] = parts.m[act] * parts.z[act]
+    for lev in range(int(own.max()) if parts.n else 0, 0, -1):
+        kids = np.nonzero(fluid & (own == lev) & (acc[:, 0] > 0.0))[0]
+        mother, found = _index_of(parts.pid, parts.parent[kids])
+        np.add.at(acc, mother[found], acc[kids[found]])
+    moved = fluid & (parts.body == GHOST) & (acc[:, 0] > 0.0)
+    parts.x[moved] = acc[moved, 1] / acc[moved, 0]
+    parts.z[moved] = acc[moved, 2] / acc[moved, 0]
+
+
 def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
     """Remove the children of the fluid particles that left the buffered boxes of their
-    children's level (and the children of removed ones), then mark every fluid particle
+    children's level (and the children of removed ones), move every ghost with active
+    descendants to their centre of mass (:func:`_anchor`), then mark every fluid particle
     active or a ghost (field ``body``): a family (a particle of level 0 and its
     descendants) is active at the level of the region its level-0 particle lies in, and
     a ghost at every other level. Returns the set (``parts`` itself when none was removed)
@@ -193,6 +214,7 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, i
     if n_gone:
         parts = parts.take(~gone)
         fluid, own = fluid[~gone], own[~gone]
+    _anchor(parts, fluid, own)
     # the level-0 ancestor of every fluid particle
     root = np.arange(parts.n)
     for _ in range(int(own.max())):
