@@ -73,7 +73,7 @@ from sph.engine.kernels import (
     w_r2,
 )
 from sph.engine.opening import opening_circle, passable, sees, wall_hidden
-from sph.engine.particles import FLUID
+from sph.engine.particles import FLUID, GHOST
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 from sph.engine.surface import CLAMP, wall_pair_terms
 
@@ -388,7 +388,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     gauss = kp[KP_KIND] == 0.0
     ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
     for i in prange(n):
-        if kind[i] != FLUID:
+        if kind[i] != FLUID or body[i] == GHOST:  # a ghost's rates are not used
             continue
         pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
         if general:
