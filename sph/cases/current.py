@@ -148,7 +148,7 @@ def _open_boundary(cfg: CaseConfig, parts, x0: float, x_end: float) -> OpenBound
     rows_z = np.unique(parts.z[inflow])
     u = stream_velocity(g.current, rows_z)
     return OpenBoundary(x0, 0.0, g.tank_length, x_end, rows_z, u, g.depth, dx, fl.rho0, sc.b,
-                        fl.gamma, fl.gravity, g.current.outflow_velocity)
+                        fl.gamma, fl.gravity, g.current.outflow)
 
 
 def _mass_diagnostics(ob: OpenBoundary) -> dict:
@@ -193,7 +193,6 @@ class CurrentTank:
 
     @staticmethod
     def setup(cfg: CaseConfig) -> CaseSetup:
-        g = cfg.geometry
         fluid, walls, bounds, (l_in, x_end), _ = _channel(cfg)
         return _finish(cfg, fluid, walls, bounds, l_in, x_end, None, {})
 
