@@ -66,6 +66,24 @@ def havelock_wave(radius: float, submergence: float, velocity: float,
                 steepness=k * amp, froude=velocity / math.sqrt(gravity * submergence))
 
 
+def tank_for_froude(froude: float, dx: float, gravity: float = 9.81) -> dict:
+    """Case-file values (dotted keys) of a ``cylinder_in_current`` tank sized for the wave
+    of Froude number ``froude`` with the built-in cylinder (``sph example
+    cylinder_in_current``): depth ``f + 2.3 / K`` (the bottom's image adds at most 1 % to
+    the wave), the gauges' window from half a wave length to 1.75 behind the cylinder,
+    the damping zone from 2 wave lengths behind it over 0.75 of one, gauges every 1/16."""
+    geo = load_defaults("cylinder_in_current")["geometry"]
+    f, xc = float(geo["cylinder"]["submergence"]), float(geo["cylinder"]["x"])
+    k = 1.0 / (f * froude**2)
+    lam = 2.0 * math.pi / k
+    depth = math.ceil((f + 2.3 / k) / dx - 1e-9) * dx
+    length, start = round(xc + 2.75 * lam, 3), round(xc + 2.0 * lam, 3)
+    return {"geometry.depth": round(depth, 9), "geometry.tank_height": round(1.5 * depth, 9),
+            "geometry.tank_length": length, "geometry.absorber.start": start,
+            "geometry.absorber.length": round(length - start, 3),
+            "geometry.gauge_spacing": round(lam / 16.0, 4)}
+
+
 def cylinder_potential_flow(x, z, xc, zc, radius, velocity):
     """Velocity of the potential flow of a stream ``velocity`` past a circular cylinder in
     an unbounded fluid, :math:`\\phi = U x (1 + a^2 / r^2)`."""
@@ -115,13 +133,12 @@ def _check_channel(cfg: CaseConfig) -> tuple[float, float]:
     return l_in, l_out
 
 
-def _channel(cfg: CaseConfig, solid=None):
-    """Lattice points of the channel: fluid, bottom walls, and the walls of ``solid`` (an
-    ``(x, z) -> bool inside``, its wall layers those inside within the layer thickness
-    ``inside(x, z, t)``); returns fluid, walls, bounds, region lengths, layers."""
+def _channel(cfg: CaseConfig, body=None):
+    """Lattice points of the channel: fluid and bottom walls, less the fluid inside
+    ``body`` (its ``outside(x, z)`` marks the fluid it leaves, ``walls()`` gives its wall
+    particles); returns fluid, walls, bounds, region lengths."""
     g, dx = cfg.geometry, cfg.numerics.dx
-    layers = wall_layers(cfg)
-    t = layers * dx
+    t = wall_layers(cfg) * dx
     l_in, l_out = region_lengths(g.current, scales(cfg).support, dx)
     # the lattice starts at x = 0 so that the inflow rows continue the fluid's columns
     n_in = int(math.ceil(l_in / dx - 1e-9))
@@ -129,16 +146,41 @@ def _channel(cfg: CaseConfig, solid=None):
     x0 = -n_in * dx
     pts = lattice(x0 - t, n_out * dx + t, -t, g.depth, dx)
     x, z = pts[:, 0], pts[:, 1]
-    bottom = (z < 0.0) & (z > -t)
     fluid = (z > 0.0) & (x > x0) & (x < n_out * dx)
-    walls = bottom
-    if solid is not None:
-        body_wall = solid(x, z, t) & fluid
-        fluid &= ~solid(x, z, 0.0)
-        fluid &= ~body_wall
-        walls = bottom | body_wall
+    walls = pts[(z < 0.0) & (z > -t)]
+    if body is not None:
+        fluid &= body.outside(x, z)
+        walls = np.concatenate([walls, body.walls()])
     bounds = (x0 - t - 2.0 * dx, n_out * dx + t + 4.0 * dx, -t, g.tank_height + g.depth)
-    return pts[fluid], pts[walls], bounds, (n_in * dx, g.tank_length + l_out), layers
+    return pts[fluid], walls, bounds, (n_in * dx, g.tank_length + l_out)
+
+
+@dataclass(frozen=True)
+class RingCylinder:
+    """A circular cylinder of wall particles on concentric rings (spacing ``dx`` along and
+    across them), so that its surface is a circle and not the lattice's staircase; the
+    fluid lattice points at ``r >= radius`` stay fluid."""
+
+    xc: float
+    zc: float
+    radius: float
+    dx: float
+    layers: int
+
+    def outside(self, x, z):
+        return np.hypot(x - self.xc, z - self.zc) >= self.radius
+
+    def walls(self) -> np.ndarray:
+        out = []
+        for k in range(self.layers):
+            r = self.radius - (k + 0.5) * self.dx
+            if r < 0.25 * self.dx:
+                out.append([[self.xc, self.zc]])
+                break
+            n = max(1, round(2.0 * math.pi * r / self.dx))
+            th = (np.arange(n) + 0.5) * 2.0 * math.pi / n
+            out.append(np.column_stack([self.xc + r * np.cos(th), self.zc + r * np.sin(th)]))
+        return np.concatenate(out)
 
 
 def _open_boundary(cfg: CaseConfig, parts, x0: float, x_end: float) -> OpenBoundary:
@@ -193,7 +235,7 @@ class CurrentTank:
 
     @staticmethod
     def setup(cfg: CaseConfig) -> CaseSetup:
-        fluid, walls, bounds, (l_in, x_end), _ = _channel(cfg)
+        fluid, walls, bounds, (l_in, x_end) = _channel(cfg)
         return _finish(cfg, fluid, walls, bounds, l_in, x_end, None, {})
 
 
@@ -296,14 +338,8 @@ class CylinderInCurrent:
                 g, current=dataclasses.replace(g.current, velocity=u)))
             g = cfg.geometry
 
-        def solid(x, z, t):
-            return np.hypot(x - c.x, z - zc) < c.radius - t + 1e-9 * dx
-
-        def inside_walls(x, z, t):
-            return solid(x, z, 0.0) if t == 0.0 else (
-                solid(x, z, 0.0) & ~solid(x, z, t))
-
-        fluid, walls, bounds, (l_in, x_end), _ = _channel(cfg, inside_walls)
+        body = RingCylinder(c.x, zc, c.radius, dx, wall_layers(cfg))
+        fluid, walls, bounds, (l_in, x_end) = _channel(cfg, body)
         vel = cylinder_potential_flow(fluid[:, 0], fluid[:, 1], c.x, zc, c.radius, u)
         th = havelock_wave(c.radius, c.submergence, u, cfg.fluid.gravity)
         xg = c.x + g.gauge_spacing * np.arange(int((g.tank_length - c.x) / g.gauge_spacing)
