@@ -69,20 +69,36 @@ def test_empty_channel_keeps_depth_stream_and_mass_over_30_flow_throughs():
 
 
 @pytest.mark.slow
-def test_sheared_stream_keeps_depth_and_flux_over_60_s(tmp_path):
-    """A velocity profile from 0.5 m/s at the bottom to 1 m/s at the surface (read from a
-    file; mean 0.75 m/s) through a 1 m channel for 60 s (45 flow-throughs): the rows of
-    the inflow region are refilled each at its own pace, and the depth, the mean velocity
-    and the mass balance hold as in the uniform stream."""
-    prof = tmp_path / "profile.txt"
-    np.savetxt(prof, [[0.0, 0.5], [0.3, 1.0]])
+def test_slow_stream_keeps_depth_stream_and_mass_over_60_s():
+    """U = 0.5 m/s through a 1 m channel 0.3 m deep at dx = 0.02 m for 60 s (30
+    flow-throughs): depth, mean velocity and mass balance as in the short test."""
     sim = run_builtin("current_tank", [
         "numerics.dx=0.02", "geometry.depth=0.3", "geometry.tank_length=1.0",
         "geometry.tank_height=0.5", "probes.surface=[{name: middle, x: 0.5}]",
-        f"geometry.current.profile={prof}", "run.t_end=60.0", "run.output_interval=0.2"])
-    rows_z = (np.arange(15) + 0.5) * 0.02
-    u_mean = float(np.mean(0.5 + 0.5 * rows_z / 0.3))
-    _channel_checks(sim, u_mean, 0.3, 1.0, 0.02)
+        "geometry.current.velocity=0.5", "run.t_end=60.0", "run.output_interval=0.2"])
+    _channel_checks(sim, 0.5, 0.3, 1.0, 0.02)
+
+
+def test_a_velocity_profile_refills_each_row_at_its_own_pace(tmp_path):
+    """A profile from 0.5 m/s at the bottom to 1 m/s at the surface (a file of two
+    columns): after 0.5 s every inflow row is again a row of spacing dx from the upstream
+    end, and the mass created is the profile's flux sum_k rho_k u(z_k) dx t, to within one
+    particle per row (the rows are refilled at list rebuilds)."""
+    prof = tmp_path / "profile.txt"
+    np.savetxt(prof, [[0.0, 0.5], [0.2, 1.0]])
+    sim = run_builtin("current_tank", TINY + [f"geometry.current.profile={prof}",
+                                              "run.t_end=0.5"])
+    ob = sim.open_boundary
+    p = sim.parts
+    inflow = (p.kind == FLUID) & (p.x < 0.0)
+    for z, u in zip(ob.rows_z, ob.rows_u, strict=True):
+        assert u == pytest.approx(0.5 + 0.5 * z / 0.2)
+        row = inflow & (p.z == z)
+        np.testing.assert_allclose(np.diff(np.sort(p.x[row])), 0.025, rtol=1e-9)
+        np.testing.assert_allclose(p.vx[row], u)
+    flux = float(np.sum(ob.rows_rho * ob.rows_u)) * 0.025 * sim.t
+    one_each = float(np.sum(ob.rows_rho)) * 0.025**2
+    assert abs(ob.mass_in - flux) < one_each
 
 
 def test_inflow_rows_are_refilled_one_spacing_apart_and_outflow_removes():
