@@ -5,7 +5,7 @@ Usable by a Snakemake rule (``snakemake.input``/``snakemake.output``) or from th
 
     python workflow/scripts/fig_cylinder_froude.py OUT.png RUN1.nc [RUN2.nc ...]
 
-Left: the fitted amplitude of the steady wave (over the gauges from 0.5 to 1.75 theoretical
+Left: the fitted amplitude of the steady wave (over the gauges from 0.5 to 1.5 theoretical
 wave lengths behind the cylinder, time mean of the last 0.5 s) against F = U / sqrt(g f),
 beside 4 pi a^2 K exp(-K f) with K = g / U^2 (both over a). Right: each run's time-mean
 surface profile behind the cylinder in units of a, with its theoretical wave.
