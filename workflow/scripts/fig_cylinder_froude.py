@@ -27,7 +27,7 @@ from sph.study.current import gauge_positions, havelock_comparison  # noqa: E402
 
 def main(out: str, runs: list[str]) -> None:
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.4))
-    froude, amp, dx = [], [], set()
+    froude, amp, dx = [], [], []
     a = f = None
     for path in runs:
         ds = xr.open_dataset(path)
@@ -35,7 +35,7 @@ def main(out: str, runs: list[str]) -> None:
         a, f = float(ds.attrs["cylinder_radius"]), float(ds.attrs["cylinder_submergence"])
         froude.append(fit["froude"])
         amp.append(fit["amplitude"])
-        dx.add(float(ds.attrs["dx"]))
+        dx.append(float(ds.attrs["dx"]))
         names, x = gauge_positions(ds)
         t = ds["time"].values
         eta = ds["probe_elevation"].sel(probe=list(names)).values[:, t >= t[-1] - 0.5]
@@ -47,13 +47,15 @@ def main(out: str, runs: list[str]) -> None:
         ax2.plot((x - xc) / a, -amp_th * np.sin(k * (x - xc)) / a, "--", lw=0.8,
                  color=line.get_color())
         ds.close()
-    order = np.argsort(froude)
     ff = np.linspace(0.9 * min(froude), 1.1 * max(froude), 200)
     th = [havelock_wave(a, f, F * np.sqrt(9.81 * f))["amplitude"] / a for F in ff]
     ax.plot(ff, th, "k-", label="linear theory (Havelock 1926)")
-    ax.plot(np.array(froude)[order], np.array(amp)[order] / a, "o-",
-            label=f"SPH, dx = {', '.join(f'{d:g}' for d in sorted(dx))} m "
-                  f"(a / dx = {a / min(dx):.0f})")
+    froude, amp, dx = np.array(froude), np.array(amp), np.array(dx)
+    for d in sorted(set(dx), reverse=True):  # one line per resolution
+        sel = dx == d
+        order = np.argsort(froude[sel])
+        ax.plot(froude[sel][order], amp[sel][order] / a, "o-",
+                label=f"SPH, dx = {d:g} m (a / dx = {a / d:.0f})")
     ax.set(xlabel="$F = U / \\sqrt{g f}$", ylabel="wave amplitude A / a",
            title=f"Submerged cylinder, a / f = {a / f:.2f}")
     ax.legend(fontsize=8)
