@@ -595,6 +595,6 @@ TARGETS: dict[str, Target] = {t.id: t for t in (
                  "in a current, over the Froude number",
         reference="Havelock (1926); Lamb (1932), Sec. 247",
         case="cylinder_in_current", runs=_cylinder_runs, metric=_cylinder_metric,
-        tolerance="none yet: docs/validation/cylinder_in_current.md",
+        tolerance="none yet: docs/validation/current_tank.md",
         figures=(("fig_cylinder_froude", "fig_cylinder_froude"),)),
 )}

@@ -164,7 +164,7 @@ def test_froude_number_sets_the_stream():
     ("cylinder_in_current", ["geometry.cylinder.x=2.34"], "geometry.cylinder.x"),
     ("cylinder_in_current", ["geometry.cylinder.submergence=0.03"],
      "geometry.cylinder.submergence"),
-    ("cylinder_in_current", ["geometry.cylinder.submergence=0.28"],
+    ("cylinder_in_current", ["geometry.cylinder.submergence=0.385"],
      "geometry.cylinder.submergence"),
     ("cylinder_in_current", ["geometry.absorber.start=0.3"], "geometry.absorber.start"),
     ("cylinder_in_current", ["geometry.froude=.nan"], "geometry.froude"),
