@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from sph.cases import dam_break, floating_box, ship, sloshing, still_water, wave_tank
+from sph.cases import current, dam_break, floating_box, ship, sloshing, still_water, wave_tank
 from sph.cases.base import example_text, load_defaults
 from sph.engine.config import CaseConfig, Fluid, Numerics, Probes, Run
 from sph.schema import ConfigError, apply_overrides, build, deep_merge, load_yaml, show
@@ -29,6 +29,8 @@ CASES = {
     "floating_box": floating_box,
     "ship_decay": ship.ShipDecay,
     "damaged_ship": ship.DamagedShip,
+    "current_tank": current.CurrentTank,
+    "cylinder_in_current": current.CylinderInCurrent,
 }
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import yaml
 
 from sph.cases.geometry import lattice, n_wall_layers
+from sph.engine.absorber import AB_SIZE
 from sph.engine.config import CaseConfig
 from sph.engine.eos import hydrostatic_density
 from sph.engine.particles import Particles
@@ -62,6 +63,9 @@ class CaseSetup:
     refinement : list
         Refinement boxes the case sets itself (:class:`sph.engine.config.RefinementBox`,
         e.g. around a hull), added to ``numerics.refinement``.
+    open_boundary : OpenBoundary or None
+        Inflow and outflow regions (:class:`sph.engine.openbc.OpenBoundary`), also listed
+        in ``events``.
     """
 
     particles: Particles
@@ -70,7 +74,7 @@ class CaseSetup:
     motions: list = field(default_factory=list)
     diagnostics: dict[str, Callable] = field(default_factory=dict)
     attrs: dict = field(default_factory=dict)
-    absorber: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    absorber: np.ndarray = field(default_factory=lambda: np.zeros(AB_SIZE))
     still_level: float | None = None
     bodies: list = field(default_factory=list)
     refinement: list = field(default_factory=list)
@@ -79,6 +83,7 @@ class CaseSetup:
     opening: Any = None
     probe_comp: int = -1
     force_scale: np.ndarray | None = None
+    open_boundary: Any = None
 
 
 def load_defaults(name: str) -> dict:

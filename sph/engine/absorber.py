@@ -33,8 +33,12 @@ reach the end wall and come back; a strong one starts to reflect on its own grad
 built-in ``wave_tank`` case uses ``strength: 2``; the library default stays 1 (Modave et
 al.'s choice, which the ship and floating-box cases were validated with).
 
-The zone travels to numba as a float array ``[mode, x0, l, c, dx]`` (mode 0 = no zone,
-1 = one-sided, 2 = two-sided).
+In a current tank (:mod:`sph.engine.openbc`) the zone damps towards the stream,
+:math:`\mathbf{v}_0 = (U, 0)`: it takes the waves out of the flow and leaves the stream;
+the one-sided form then damps the particles with :math:`v_x < U`.
+
+The zone travels to numba as a float array ``[mode, x0, l, c, dx, pitch, U]`` (mode 0 = no
+zone, 1 = one-sided, 2 = two-sided).
 """
 
 from __future__ import annotations
@@ -55,7 +59,8 @@ AB_LENGTH = 2  #: zone length (m)
 AB_SPEED = 3  #: c of the profile times the strength (m/s)
 AB_DX = 4  #: particle spacing (m)
 AB_PITCH = 5  #: the zone repeats every pitch metres along x (0: once)
-AB_SIZE = 6
+AB_STREAM = 6  #: reference velocity along x the zone damps towards (m/s; 0: still water)
+AB_SIZE = 7
 
 
 @dataclass(frozen=True)
@@ -83,11 +88,12 @@ class AbsorberConfig:
 
 
 def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
-                    pitch: float = 0.0) -> np.ndarray:
+                    pitch: float = 0.0, stream: float = 0.0) -> np.ndarray:
     """Pack the zone for the numba update (``speed`` used when ``cfg.speed`` is None).
 
     ``pitch`` > 0 repeats the zone every ``pitch`` metres along x: the tanks of the strip
-    segments of a ship lie side by side at that spacing (:mod:`sph.cases.ship`)."""
+    segments of a ship lie side by side at that spacing (:mod:`sph.cases.ship`).
+    ``stream``: the velocity along x the zone damps towards (a current tank's U)."""
     if cfg is None or not cfg.enabled:
         return np.zeros(AB_SIZE)
     c = (cfg.speed if cfg.speed is not None else speed) * cfg.strength
@@ -98,6 +104,7 @@ def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
     ab[AB_SPEED] = c
     ab[AB_DX] = dx
     ab[AB_PITCH] = pitch
+    ab[AB_STREAM] = stream
     return ab
 
 
@@ -112,7 +119,8 @@ def absorber_speed(ab: np.ndarray) -> float:
 
 @njit(inline="always", **JIT)
 def sigma(x, vx, ab):
-    """Damping rate (1/s) at ``x`` for a particle moving with ``vx``; 0 outside the zone."""
+    """Damping rate (1/s) at ``x`` for a particle moving with ``vx`` relative to the
+    stream (:data:`AB_STREAM`); 0 outside the zone."""
     if ab[AB_FORM] != 0.0 and ab[AB_PITCH] > 0.0:
         x -= ab[AB_PITCH] * np.floor(x / ab[AB_PITCH])
     if ab[AB_FORM] == 0.0 or x <= ab[AB_START]:

@@ -26,7 +26,7 @@ import math
 
 from numba import prange
 
-from sph.engine.absorber import AB_FORM, sigma
+from sph.engine.absorber import AB_FORM, AB_STREAM, sigma
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.particles import FLUID
 
@@ -63,8 +63,9 @@ def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind
                   ab):
     """Advance fluid particles one step (see module docstring); walls are left alone.
 
-    ``ab`` describes the absorbing zone (:mod:`sph.engine.absorber`); its damping is applied
-    implicitly to the new velocity."""
+    ``ab`` describes the absorbing zone (:mod:`sph.engine.absorber`); its damping of the
+    velocity relative to the stream ``(ab[AB_STREAM], 0)`` is applied implicitly to the new
+    velocity."""
     half_dt2 = 0.5 * dt * dt
     dt_eff = dt if euler else 2.0 * dt
     for i in prange(x.shape[0]):
@@ -81,10 +82,11 @@ def verlet_update(x, z, vx, vz, rho, vx_old, vz_old, rho_old, ax, az, drho, kind
             nvz = vz_old[i] + 2.0 * dt * az[i]
             nrho = rho_old[i] + 2.0 * dt * drho[i]
         if ab[AB_FORM] != 0.0:
-            s = sigma(x[i], nvx, ab)
+            u0 = ab[AB_STREAM]
+            s = sigma(x[i], nvx - u0, ab)
             if s != 0.0:  # inside the zone
                 fac = 1.0 / (1.0 + dt_eff * s)
-                nvx *= fac
+                nvx = u0 + (nvx - u0) * fac
                 nvz *= fac
         vx_old[i] = vx[i]
         vz_old[i] = vz[i]

@@ -174,6 +174,8 @@ class Stepper:
         #: objects whose state a checkpoint must hold besides the particles: each has
         #: ``get_state() -> dict`` (numpy arrays and scalars) and ``set_state(dict)``
         self.stateful = list(self.bodies) + list(self.setup.events)
+        #: inflow and outflow regions (:mod:`sph.engine.openbc`; also in ``setup.events``)
+        self.open_boundary = self.setup.open_boundary
         self.t = 0.0
         self.step = 0
         self.dt = 0.0
@@ -300,6 +302,8 @@ class Stepper:
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
                  self._surf)
+        if self.open_boundary is not None:
+            self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity
             ghost = ~active_fluid(p) & (p.kind == FLUID)
             for a in (p.ax, p.az, p.drho, p.sx, p.sz):
@@ -344,6 +348,11 @@ class Stepper:
         if self.variable:
             self._refine()
             p = self.parts
+        if self.open_boundary is not None:
+            self.parts = self.open_boundary.rebuild(p)
+            if self.parts is not p:
+                p = self.parts
+                self._allocate_work()
         if g.sort(p.x, p.z):
             self._exclude()
             p = self.parts

@@ -94,7 +94,7 @@ SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference"
               "validation", "validation_data", "calibrate_wavemaker")
 #: sections of a preset
 PRESET_KEYS = ("description", "ship", "wave_tank", "sloshing", "decay", "floating_box",
-               "dam_break")
+               "dam_break", "cylinder")
 #: keys of each preset section and whether they are required
 PRESET_SECTION_KEYS = {
     "ship": {"dx": True, "periods": True, "output_interval": False, "set": False},
@@ -106,6 +106,8 @@ PRESET_SECTION_KEYS = {
               "output_interval": False, "set": False},
     "floating_box": {"dx": True, "t_end": True, "output_interval": False, "set": False},
     "dam_break": {"dx": True, "t_end": True, "output_interval": False, "set": False},
+    "cylinder": {"dx": True, "t_end": True, "froude": True, "output_interval": False,
+                 "set": False},
 }
 #: the largest wave frequency a case row may ask for (rad/s; a 0.6 s wave)
 OMEGA_MAX = 10.0
@@ -298,7 +300,7 @@ def check_presets(presets: Any, source: str = "presets") -> dict:
                 sub = f"{where}.{section}.{k}"
                 if k == "set":
                     _check_set(v, sub)
-                elif k in ("dx_over_amplitude", "window", "fills"):
+                elif k in ("dx_over_amplitude", "window", "fills", "froude"):
                     if not isinstance(v, list) or not v:
                         raise ConfigError(sub, f"expected a non-empty list, got {v!r}")
                     for i, x in enumerate(v):
@@ -344,7 +346,7 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
         raise ConfigError("", "the configuration must be a mapping")
     _check_keys(config, SWEEP_KEYS, "")
     for k in ("sweep", "cases", "preset", "presets"):
-        if k not in config or config[k] in (None, ""):
+        if k not in config or config[k] is None or config[k] == "":
             raise ConfigError(k, "required key is missing")
     base = Path(base)
     cfg = dict(config)
@@ -355,7 +357,12 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
     cases = config["cases"]
     if isinstance(cases, str):
         cases = read_case_table(base / cases)
-    cfg["cases"] = check_cases(cases)
+    # an empty list: a sweep of validation targets only (config/sweeps/cylinder_froude.yaml)
+    validation_only = isinstance(cases, list) and not cases
+    if validation_only and not config.get("validation"):
+        raise ConfigError("cases", "an empty case table runs no ship: a sweep without cases "
+                          "must list validation targets (validation: [...])")
+    cfg["cases"] = [] if validation_only else check_cases(cases)
     presets_path = base / str(config["presets"])
     try:
         presets = yaml.safe_load(presets_path.read_text())

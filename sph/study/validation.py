@@ -401,6 +401,23 @@ def dam_break(runs: Mapping[str, object], t_max: float = 0.6) -> list[dict]:
     return rows
 
 
+def cylinder(runs: Mapping[str, object]) -> list[dict]:
+    """The steady wave behind the submerged cylinder against Havelock's linear theory:
+    wave length and amplitude per run (:func:`sph.study.current.havelock_comparison`)."""
+    from sph.study.current import havelock_comparison
+
+    rows = []
+    for run, ds in runs.items():
+        fit = havelock_comparison(ds)
+        label = f"{run} (F = {fit['froude']:.3f}, dx = {float(ds.attrs['dx']):g} m)"
+        src = "Havelock (1926), Lamb Sec. 247"
+        rows.append(_row("cylinder", label, "wave length", fit["wavelength"],
+                         fit["theory_wavelength"], "m", src))
+        rows.append(_row("cylinder", label, "wave amplitude", fit["amplitude"],
+                         fit["theory_amplitude"], "m", src))
+    return rows
+
+
 # ------------------------------------------------------------------------------ the targets
 # Runs of a target: (the preset's section of the target, its numbers parsed, as
 # sph.study.sweeps.validation_runs passes it; the folder of the experimental series) ->
@@ -466,6 +483,20 @@ def _dam_break_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
     return {"front": _common(sec)}
 
 
+def _cylinder_runs(sec: Mapping, data_dir: Path) -> dict[str, dict]:
+    """``F0632``, ...: one run per Froude number of ``froude``, each in a tank sized for its
+    wave (:func:`sph.cases.current.tank_for_froude`)."""
+    from sph.cases.current import tank_for_froude
+
+    runs = {}
+    for fr in sec["froude"]:
+        over = _common(sec)
+        over["geometry.froude"] = fr
+        over.update(tank_for_froude(fr, over["numerics.dx"]))
+        runs[f"F{round(1000 * fr):04d}"] = over
+    return runs
+
+
 # metrics of a target in one signature: (datasets by run, steady window (s), data folder)
 def _wave_tank_metric(sets, window, data_dir) -> list[dict]:
     return wave_tank(sets, window)
@@ -487,6 +518,10 @@ def _floating_box_metric(sets, window, data_dir) -> list[dict]:
 
 def _dam_break_metric(sets, window, data_dir) -> list[dict]:
     return dam_break(sets)
+
+
+def _cylinder_metric(sets, window, data_dir) -> list[dict]:
+    return cylinder(sets)
 
 
 @dataclass(frozen=True)
@@ -554,4 +589,12 @@ TARGETS: dict[str, Target] = {t.id: t for t in (
         case="dam_break", runs=_dam_break_runs, metric=_dam_break_metric,
         tolerance="front lead RMS 15 %, largest 16 % (dx = 0.025 m)",
         figures=(("fig_dam_break", "fig_dam_break"),)),
+    Target(
+        id="cylinder",
+        compares="wave length and amplitude of the steady wave behind a submerged cylinder "
+                 "in a current, over the Froude number",
+        reference="Havelock (1926); Lamb (1932), Sec. 247",
+        case="cylinder_in_current", runs=_cylinder_runs, metric=_cylinder_metric,
+        tolerance="none yet: docs/validation/current_tank.md",
+        figures=(("fig_cylinder_froude", "fig_cylinder_froude"),)),
 )}

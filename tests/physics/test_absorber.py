@@ -102,3 +102,31 @@ def test_an_enabled_zone_must_say_where_it_lies():
     cfg = builtin("ship_decay", ["geometry.absorber.enabled=true", "geometry.absorber.start=80",
                                  "geometry.absorber.length=40"])
     assert (cfg.geometry.absorber.start, cfg.geometry.absorber.length) == (80.0, 40.0)
+
+
+def test_damping_towards_a_stream_keeps_the_stream_and_damps_the_rest():
+    """In a current tank the zone damps the velocity relative to the stream (U, 0): a
+    particle moving with the stream is left alone, one 0.3 m/s faster and 0.2 m/s upward
+    relaxes towards (U, 0) as (1 + sigma dt)^-n; the one-sided form damps only particles
+    slower than the stream."""
+    u0 = 0.8
+    x = np.full(2, 120.0)
+    z = np.ones(2)
+    vx = np.array([u0, u0 + 0.3])
+    vz = np.array([0.0, 0.2])
+    zeros = np.zeros(2)
+    rho = np.full(2, 1000.0)
+    ab = absorber_params(CFG, speed=1.0, dx=DX, stream=u0)
+    dt = 1e-3 / sigma(120.0, 0.0, ab)
+    expected = 1.0
+    for _ in range(500):
+        x[:] = 120.0
+        expected /= 1.0 + dt * sigma(120.0 + dt * vx[1], vx[1] - u0, ab)
+        verlet_update(x, z, vx, vz, rho, vx.copy(), vz.copy(), rho.copy(), zeros, zeros,
+                      zeros, np.zeros(2, dtype=np.int32), dt, True, ab)
+    assert vx[0] == u0 and vz[0] == 0.0
+    np.testing.assert_allclose(vx[1] - u0, 0.3 * expected, rtol=1e-10)
+    np.testing.assert_allclose(vz[1], 0.2 * expected, rtol=1e-10)
+    one = absorber_params(AbsorberConfig(start=90.0, length=60.0, speed=10.0,
+                                         form="one_sided"), speed=1.0, dx=DX, stream=u0)
+    assert sigma(120.0, 0.3, one) == 0.0 and sigma(120.0, -0.3, one) > 0.0

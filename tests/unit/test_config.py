@@ -255,7 +255,8 @@ def test_load_case_with_overrides(tmp_path):
 
 def test_builtin_case_names():
     assert set(CASES) == {"still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
-                          "floating_box", "ship_decay", "damaged_ship"}
+                          "floating_box", "ship_decay", "damaged_ship", "current_tank",
+                          "cylinder_in_current"}
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

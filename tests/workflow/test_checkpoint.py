@@ -74,6 +74,14 @@ TINY = {
         "geometry.damage.time_periods=0.05", "probes.surface=[{name: WP1, x: 3}]",
         "run.t_end=0.25", "run.output_interval=0.02",
     ]),
+    # particles created in the inflow region and removed beyond the outflow region
+    "current_tank": ("current_tank", [
+        "numerics.dx=0.05", "geometry.depth=0.2", "geometry.tank_length=0.5",
+        "geometry.tank_height=0.4", "geometry.current.velocity=1.0",
+        "geometry.absorber.enabled=true", "geometry.absorber.start=0.25",
+        "geometry.absorber.length=0.25", "probes.surface=[{name: c, x: 0.25}]",
+        "run.t_end=0.3", "run.output_interval=0.02",
+    ]),
 }
 
 

@@ -15,7 +15,8 @@ from sph.cases import load_case
 from sph.cli import main
 
 CASE_NAMES = ["still_water", "dam_break", "sloshing_rect", "sloshing_u", "wave_tank",
-              "floating_box", "ship_decay", "damaged_ship"]
+              "floating_box", "ship_decay", "damaged_ship", "current_tank",
+              "cylinder_in_current"]
 
 # A still-water tank small enough to run in about a second: 10 x 5 fluid particles.
 TINY_STILL_WATER = [

@@ -222,7 +222,9 @@ def test_nest_refuses_a_value_and_a_section():
 def test_validation_runs_cover_every_target(tmp_path):
     s = _load()
     runs = study.validation_runs(s, tmp_path)
-    assert list(runs) == list(study.VALIDATION_TARGETS)
+    # the default sweep runs every target but the cylinder in a current, which has its own
+    # sweep (config/sweeps/cylinder_froude.yaml)
+    assert list(runs) == [t for t in study.VALIDATION_TARGETS if t != "cylinder"]
     assert [o["numerics.dx"] for _, o in runs["wave_tank"].values()] == \
         pytest.approx([2.0, 1.2, 0.8])
     assert list(runs["sloshing"]) == ["fill25", "fill50", "fill75"]

@@ -84,7 +84,8 @@ KINDS = {
     "unknown case column": unknown_word.map(lambda w: (_row(**{w: 1}), f"cases[1].{w}")),
     "missing case column": st.sampled_from(["case", "opening", "side", "fill"]).map(
         lambda c: (_drop_col(c), f"cases[1].{c}")),
-    "empty case list": st.just((_set("cases", []), "cases")),
+    # an empty case list is a sweep of validation targets only, which must list some
+    "empty case list": st.just((dict(_set("cases", []), validation=[]), "cases")),
     "case row not a mapping": st.integers().map(
         lambda v: (_set("cases", [dict(ROW), v]), "cases[1]")),
     "unknown preset": unknown_word.map(lambda v: (_set("preset", v), "preset")),
