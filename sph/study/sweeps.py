@@ -95,6 +95,8 @@ SWEEP_KEYS = ("sweep", "title", "cases", "preset", "presets", "set", "reference"
 #: sections of a preset
 PRESET_KEYS = ("description", "ship", "wave_tank", "sloshing", "decay", "floating_box",
                "dam_break", "cylinder")
+#: preset sections needed only by a sweep that lists their validation target
+OPTIONAL_SECTIONS = ("cylinder",)
 #: keys of each preset section and whether they are required
 PRESET_SECTION_KEYS = {
     "ship": {"dx": True, "periods": True, "output_interval": False, "set": False},
@@ -289,6 +291,8 @@ def check_presets(presets: Any, source: str = "presets") -> dict:
         _check_keys(preset, PRESET_KEYS, where)
         for section, keys in PRESET_SECTION_KEYS.items():
             sec = preset.get(section)
+            if sec is None and section in OPTIONAL_SECTIONS:
+                continue
             if not isinstance(sec, Mapping):
                 raise ConfigError(f"{where}.{section}", "required section is missing or not "
                                   "a mapping")
@@ -400,6 +404,10 @@ def load_sweep(config: Mapping, base: str | Path = ".") -> dict:
             raise ConfigError(f"validation[{i}]", f"unknown validation target {t!r}; must "
                               f"be one of {', '.join(VALIDATION_TARGETS)}")
     cfg["validation"] = list(dict.fromkeys(targets))
+    for t in cfg["validation"]:
+        if t in OPTIONAL_SECTIONS and t not in cfg["preset_settings"]:
+            raise ConfigError(f"presets.{preset}.{t}", f"the validation target {t!r} needs "
+                              "this section of the preset")
     calibrate = config.get("calibrate_wavemaker", True)
     if calibrate in ("true", "false", "True", "False"):  # `--config calibrate_wavemaker=false`
         calibrate = calibrate.lower() == "true"
