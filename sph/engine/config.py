@@ -81,11 +81,6 @@ class Numerics:
     def h(self) -> float:
         return self.dx * (self.h_factor or DEFAULT_H_FACTOR[self.kernel])
 
-    @property
-    def max_level(self) -> int:
-        """The finest refinement level (0: uniform resolution)."""
-        return max((b.level for b in self.refinement), default=0)
-
     def check(self, key):
         boxes = self.refinement
         for k, b in enumerate(boxes):

@@ -38,7 +38,7 @@ from sph.engine.neighbours import (
     moved_or_outside,
 )
 from sph.engine.opening import no_opening
-from sph.engine.particles import FLOAT_FIELDS, FLUID, INT_FIELDS, Particles
+from sph.engine.particles import FLOAT_FIELDS, FLUID, GHOST, INT_FIELDS, Particles
 from sph.engine.probes import point_pressures, surface_heights
 from sph.engine.refinement import (
     active_fluid,
@@ -305,7 +305,7 @@ class Stepper:
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity
-            ghost = ~active_fluid(p) & (p.kind == FLUID)
+            ghost = p.body == GHOST
             for a in (p.ax, p.az, p.drho, p.sx, p.sz):
                 a[ghost] = 0.0
         if self.bodies:
@@ -370,12 +370,13 @@ class Stepper:
         """The ghosts within reach of active particles (:func:`ghosts_in_reach`) and the
         particles each ghost is fitted from (:func:`ghost_sources`), at the positions the
         lists were built at."""
+        if not self.variable:
+            return
         p = self.parts
         self._reach = np.zeros(p.n, dtype=np.bool_)
-        if self.variable:
-            ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
-            self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs,
-                                          self.grid, self.list_radius)
+        ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
+        self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs, self.grid,
+                                      self.list_radius)
 
     def _refresh_inner(self) -> None:
         p = self.parts
@@ -397,13 +398,14 @@ class Stepper:
                 or np.any(p.kind[out] != FLUID):
             raise SimulationError(self.step, self.t, f"{int(out.sum())} particle(s) left "
                                   f"{where} (or are NaN)")
-        n_out = int((out & active_fluid(p)).sum())  # a ghost is removed without a word
+        lost = out & active_fluid(p)  # a ghost is removed without a word
+        n_out = int(lost.sum())
         budget = int(self.cfg.run.max_lost_fraction * self.n_fluid)
         if self.n_lost + n_out > budget:
             raise SimulationError(self.step, self.t, f"{n_out} fluid particle(s) left {where}"
                                   f", {self.n_lost + n_out} in all, more than "
                                   f"run.max_lost_fraction allows ({budget})")
-        k = np.nonzero(out & active_fluid(p))[0]
+        k = np.nonzero(lost)[0]
         if n_out:
             log.warning("t = %.5g s (step %d): %d fluid particle(s) left %s at (x, z) = %s m, "
                         "speed %s m/s; removed (%d of %d allowed)", self.t, self.step, n_out,
