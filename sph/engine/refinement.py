@@ -80,6 +80,10 @@ MLS_SUPPORT = 0.8
 #: width of the buffer of ghosts around a box, in its level's spacings: the kernel
 #: support (3 h = 3.7 spacings for the Gaussian) with the lists' skin, plus one spacing
 BUFFER = 5.5
+#: a family stays active at a level while its particles of that level lie within this many
+#: of their spacings of their level's boxes (:func:`_family_levels`): the kernel support
+#: (3.7 spacings) then stays within the buffer of that level's lattice
+STRAY = 1.8
 
 
 def pack_boxes(boxes) -> np.ndarray:
@@ -194,16 +198,74 @@ def _anchor(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> None:
     parts.z[moved] = acc[moved, 2] / acc[moved, 0]
 
 
+def _roots(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> np.ndarray:
+    """Index of the level-0 ancestor of every fluid particle (itself for the others)."""
+    root = np.arange(parts.n)
+    for _ in range(int(own.max()) if parts.n else 0):
+        up = np.nonzero(fluid & (parts.parent[root] >= 0))[0]
+        if len(up) == 0:
+            break
+        root[up], _ = _index_of(parts.pid, parts.parent[root[up]])
+    return root
+
+
+#: the columns a family's momentum is kept in, at both leapfrog levels
+_MOMENTUM = ("vx", "vz", "vx_old", "vz_old")
+
+
+def _family_sums(parts: Particles, members: np.ndarray, root: np.ndarray) -> np.ndarray:
+    """Mass and momentum (:data:`_MOMENTUM`) of the particles ``members`` summed per family
+    (indexed by the family's level-0 particle): shape ``(5, n)``."""
+    r = root[members]
+    m = parts.m[members]
+    out = np.empty((len(_MOMENTUM) + 1, parts.n))
+    out[0] = np.bincount(r, m, minlength=parts.n)
+    for k, name in enumerate(_MOMENTUM, start=1):
+        out[k] = np.bincount(r, m * getattr(parts, name)[members], minlength=parts.n)
+    return out
+
+
+def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: np.ndarray,
+                   boxes: np.ndarray, dx: float) -> np.ndarray:
+    """The level each family is active at, per family (indexed by its level-0 particle):
+    the level of the region its level-0 particle lies in, lowered while the family's
+    particles of that level are not all there (a mother out of their buffered box lost its
+    children) or one of them strayed more than :data:`STRAY` of its spacings out of its
+    level's boxes, where its kernel would reach past the lattice of its level."""
+    n = parts.n
+    region = _targets(parts.x, parts.z, boxes, 0.0)
+    out = np.zeros(n, dtype=np.int32)
+    out[root[fluid]] = region[root[fluid]]
+    near = _targets(parts.x, parts.z, boxes, STRAY * dx)
+    for lev in range(int(own.max()) if n else 0, 0, -1):
+        at = fluid & (own == lev)
+        count = np.bincount(root[at], minlength=n)
+        strays = np.bincount(root[at & (near < lev)], minlength=n)
+        bad = (count != 4 ** lev) | (strays > 0)
+        out[(out == lev) & bad] = lev - 1
+    return out
+
+
 def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
     """Remove the children of the fluid particles that left the buffered boxes of their
     children's level (and the children of removed ones), move every ghost with active
     descendants to their centre of mass (:func:`_anchor`), then mark every fluid particle
     active or a ghost (field ``body``): a family (a particle of level 0 and its
-    descendants) is active at the level of the region its level-0 particle lies in, and
-    a ghost at every other level. Returns the set (``parts`` itself when none was removed)
-    and the number removed."""
+    descendants) is active at one level (:func:`_family_levels`) and a ghost at every
+    other. A family whose level changes hands its momentum over: the particles that turn
+    active take a common velocity change that gives them the momentum the family's active
+    particles had (before any removal), so that mass and momentum are kept to round-off in
+    every split and merge, and the centre of mass too in a merge. Returns the set
+    (``parts`` itself when none was removed) and the number removed."""
     fluid = parts.kind == FLUID
     own = levels(parts.hs)
+    root = _roots(parts, fluid, own)
+    # the family's active particles now: those of its coarsest level marked active (the
+    # children just made are copies of their mother, marks included)
+    marked = fluid & (parts.body != GHOST)
+    before = np.full(parts.n, np.iinfo(np.int32).max, dtype=np.int32)
+    np.minimum.at(before, root[marked], own[marked])
+    held = _family_sums(parts, marked & (own == before[root]), root)
     gone = np.zeros(parts.n, dtype=bool)
     reach = _targets(parts.x, parts.z, boxes, BUFFER * dx)
     for lev in range(1, int(own.max()) + 1):
@@ -212,18 +274,23 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, i
         gone[kids] = ~found | gone[mother] | (reach[mother] < lev)
     n_gone = int(gone.sum())
     if n_gone:
-        parts = parts.take(~gone)
-        fluid, own = fluid[~gone], own[~gone]
+        keep = ~gone
+        new_index = np.cumsum(keep) - 1  # level-0 particles are never removed
+        parts = parts.take(keep)
+        fluid, own, before = fluid[keep], own[keep], before[keep]
+        root = new_index[root[keep]]
+        held = held[:, keep]
     _anchor(parts, fluid, own)
-    # the level-0 ancestor of every fluid particle
-    root = np.arange(parts.n)
-    for _ in range(int(own.max())):
-        up = np.nonzero(fluid & (parts.parent[root] >= 0))[0]
-        if len(up) == 0:
-            break
-        root[up], _ = _index_of(parts.pid, parts.parent[root[up]])
-    region = _targets(parts.x[root], parts.z[root], boxes, 0.0)
-    parts.body[fluid] = np.where(own[fluid] == region[fluid], -1, GHOST)
+    after = _family_levels(parts, fluid, own, root, boxes, dx)
+    active = fluid & (own == after[root])
+    parts.body[fluid] = np.where(active[fluid], -1, GHOST)
+    changed = active & (before[root] != after[root]) & (held[0, root] > 0.0)
+    if changed.any():
+        now = _family_sums(parts, changed, root)
+        r = root[changed]
+        for k, name in enumerate(_MOMENTUM, start=1):
+            col = getattr(parts, name)
+            col[changed] += (held[k, r] - now[k, r]) / now[0, r]
     return parts, n_gone
 
 
