@@ -67,6 +67,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
+from sph.engine.config import MAX_LEVEL
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, w_scaled
 from sph.engine.opening import sees
@@ -84,6 +85,9 @@ BUFFER = 5.5
 #: of their spacings of their level's boxes (:func:`_family_levels`): the kernel support
 #: (3.7 spacings) then stays within the buffer of that level's lattice
 STRAY = 1.8
+#: a family changes level once its level-0 particle is this many spacings of the box's
+#: level past the box's edge (:func:`_family_levels`)
+HYSTERESIS = 1.0
 
 
 def pack_boxes(boxes) -> np.ndarray:
@@ -226,16 +230,26 @@ def _family_sums(parts: Particles, members: np.ndarray, root: np.ndarray) -> np.
 
 
 def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: np.ndarray,
-                   boxes: np.ndarray, dx: float) -> np.ndarray:
+                   before: np.ndarray, boxes: np.ndarray, dx: float, hysteresis: bool
+                   ) -> np.ndarray:
     """The level each family is active at, per family (indexed by its level-0 particle):
-    the level of the region its level-0 particle lies in, lowered while the family's
-    particles of that level are not all there (a mother out of their buffered box lost its
-    children) or one of them strayed more than :data:`STRAY` of its spacings out of its
-    level's boxes, where its kernel would reach past the lattice of its level."""
+    the level of the region its level-0 particle lies in, with a hysteresis of
+    :data:`HYSTERESIS` spacings of the boxes' levels about their edges (a family keeps its
+    level ``before`` until its level-0 particle is that far past an edge: in still water
+    the surface particles beside a boundary settle back and forth across it), lowered
+    while the family's particles of that level are not all there (a mother out of their
+    buffered box lost its children) or one of them strayed more than :data:`STRAY` of its
+    spacings out of its level's boxes, where its kernel would reach past the lattice of its
+    level."""
     n = parts.n
-    region = _targets(parts.x, parts.z, boxes, 0.0)
+    r = np.nonzero(fluid & (own == 0))[0]  # the families' level-0 particles
+    inner = _targets(parts.x[r], parts.z[r], boxes, -HYSTERESIS * dx)
+    outer = _targets(parts.x[r], parts.z[r], boxes, HYSTERESIS * dx)
     out = np.zeros(n, dtype=np.int32)
-    out[root[fluid]] = region[root[fluid]]
+    out[r] = _targets(parts.x[r], parts.z[r], boxes, 0.0)
+    if hysteresis:
+        keep = before[r] <= MAX_LEVEL
+        out[r[keep]] = np.clip(before[r[keep]], inner[keep], outer[keep])
     near = _targets(parts.x, parts.z, boxes, STRAY * dx)
     for lev in range(int(own.max()) if n else 0, 0, -1):
         at = fluid & (own == lev)
@@ -246,7 +260,8 @@ def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: n
     return out
 
 
-def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, int]:
+def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = True
+           ) -> tuple[Particles, int]:
     """Remove the children of the fluid particles that left the buffered boxes of their
     children's level (and the children of removed ones), move every ghost with active
     descendants to their centre of mass (:func:`_anchor`), then mark every fluid particle
@@ -255,7 +270,8 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, i
     other. A family whose level changes hands its momentum over: the particles that turn
     active take a common velocity change that gives them the momentum the family's active
     particles had (before any removal), so that mass and momentum are kept to round-off in
-    every split and merge, and the centre of mass too in a merge. Returns the set
+    every split and merge, and the centre of mass too in a merge. ``hysteresis``: false at
+    the initial refinement, where every family takes its region's level. Returns the set
     (``parts`` itself when none was removed) and the number removed."""
     fluid = parts.kind == FLUID
     own = levels(parts.hs)
@@ -281,7 +297,7 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float) -> tuple[Particles, i
         root = new_index[root[keep]]
         held = held[:, keep]
     _anchor(parts, fluid, own)
-    after = _family_levels(parts, fluid, own, root, boxes, dx)
+    after = _family_levels(parts, fluid, own, root, before, boxes, dx, hysteresis)
     active = fluid & (own == after[root])
     parts.body[fluid] = np.where(active[fluid], -1, GHOST)
     changed = active & (before[root] != after[root]) & (held[0, root] > 0.0)

@@ -229,7 +229,7 @@ class Stepper:
                                   f"[{zmin:g}, {zmax:g}] m")
         dx = self.cfg.numerics.dx
         parts, _ = spawn(p, self.boxes, dx, self._grad_rho(), fluid_only=False)
-        self.parts, _ = assign(parts, self.boxes, dx)
+        self.parts, _ = assign(parts, self.boxes, dx, hysteresis=False)
 
     def _grad_rho(self) -> tuple[float, float]:
         """The hydrostatic density gradient (rho0 / c0^2) g (:func:`spawn`)."""

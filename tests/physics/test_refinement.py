@@ -67,8 +67,9 @@ def _totals(p):
 
 
 def _refined(p, boxes, grad_rho=(0.0, 0.0)):
+    """The initial refinement, as the stepper's."""
     q, n_new = spawn(p, boxes, DX, grad_rho)
-    q, _ = assign(q, boxes, DX)
+    q, _ = assign(q, boxes, DX, hysteresis=False)
     return q, n_new
 
 
@@ -164,8 +165,12 @@ def test_a_family_crossing_into_a_box_hands_its_momentum_to_its_children():
     for c in ("vx", "vz", "vx_old", "vz_old"):  # as fitted: unrelated to the mother's
         getattr(q, c)[kids] = rng.normal(0.0, 1.0, 4)
     before = _family_momentum(q, pid)
-    q.x[i] += 0.06  # into the box
+    q.x[i] += 0.06  # into the box, by less than the hysteresis: no change yet
     q.x[kids] += 0.06
+    q, _ = assign(q, boxes, DX)
+    assert active_fluid(q)[i] and not active_fluid(q)[kids].any()
+    q.x[i] += 0.05  # one fine spacing in
+    q.x[kids] += 0.05
     q, _ = assign(q, boxes, DX)
     kids = q.parent == pid
     assert np.all(active_fluid(q)[kids]) and q.body[q.pid == pid][0] == GHOST
