@@ -42,7 +42,10 @@ Barcarolo et al. 2014), with its velocity and its density corrected hydrostatica
 keeps existing, and its children keep its id in the field ``parent``. Its children are
 removed when it leaves that buffered box (and theirs with them). A level-0 particle and its
 descendants are one family, and the family is active at one level only: the level of the
-region its level-0 particle lies in; its other levels are ghosts. The mass held by the
+region its level-0 particle lies in, with a hysteresis, and a coarser one while its
+particles of that level have strayed from their lattice (:func:`_family_levels`); its
+other levels are ghosts. A family changing level hands its momentum to the particles that
+turn active (:func:`assign`). The mass held by the
 active particles is then the initial mass exactly, whatever crosses a level boundary (a
 rule by each particle's own position, as Chiron et al. use, lets fine ghosts drift into a
 box without the coarse mass leaving it: a still tank gained 2 % of its mass in 10 s). A
