@@ -227,6 +227,17 @@ def test_validation_runs_cover_every_target(tmp_path):
     assert list(runs) == [t for t in study.VALIDATION_TARGETS if t != "cylinder"]
     assert [o["numerics.dx"] for _, o in runs["wave_tank"].values()] == \
         pytest.approx([2.0, 1.2, 0.8])
+    # the wave tank runs with the ship's numerics and absorbing zone, not the wave_tank
+    # case's tuned ones (half the viscosity, twice the absorber's strength)
+    from sph.cases import builtin
+    ship = builtin("damaged_ship", ["geometry.damage.opening=0"])
+    tuned = builtin("wave_tank")
+    for case, over in runs["wave_tank"].values():
+        cfg = builtin(case, list(over.items()))
+        assert cfg.numerics.alpha == ship.numerics.alpha != tuned.numerics.alpha
+        assert cfg.numerics.density_filter == ship.numerics.density_filter
+        assert cfg.geometry.absorber.strength == ship.geometry.absorber.strength != \
+            tuned.geometry.absorber.strength
     assert list(runs["sloshing"]) == ["fill25", "fill50", "fill75"]
     assert runs["decay"]["heave"][1]["geometry.dofs.roll"] is False
     assert runs["floating_box"]["box"][1]["geometry.wavemaker.file"].endswith(
