@@ -388,7 +388,7 @@ def ghost_sources(x, z, kind, body, hs, grid, radius) -> tuple[np.ndarray, np.nd
 
 @njit(**JIT_PARALLEL)
 def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp, hs,
-                 src_start, src_index, kp, op, kin, reach, every):
+                 src_start, src_index, kp, op, kin, reach, every, grad_rho=(0.0, 0.0)):
     r"""Density and velocity of every ghost (:data:`sph.engine.particles.GHOST`) from the
     active fluid particles around it, of every level, each with its own kernel: the
     first-order moving least squares fit
@@ -400,7 +400,12 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     (as the density filter, :func:`sph.engine.filters.mls_density`), exact for a linear
     field; the Shepard mean where :math:`A_g` is near singular or the kernel is less than
     :data:`MLS_SUPPORT` full (at a free surface or a splash a linear fit extrapolates, and
-    a ghost given a wild velocity would carry it when its family turns active there). Both
+    a ghost given a wild velocity would carry it when its family turns active there), the
+    density each source's carried to the ghost along the hydrostatic gradient ``grad_rho``
+    (:math:`(\rho_0 / c_0^2)\,\mathbf{g}`): the sources of a ghost at a free surface lie
+    below it on the whole, and their plain mean gave it the density of a depth of about
+    a smoothing length; its pressure pushed the active particles beside it up and out, and
+    the fine particles at a box's edge rose out of a still tank's surface. Both
     leapfrog levels take the fitted values; a ghost with no active particle in reach keeps
     its own. Only the ghosts marked in ``reach`` (:func:`ghosts_in_reach`) are fitted,
     unless ``every`` (the steps the lists are rebuilt at: the others move with the velocity
@@ -452,7 +457,7 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
             vx[i] = (c11 * u0 + c12 * u1 + c13 * u2) / det
             vz[i] = (c11 * w0 + c12 * w1 + c13 * w2) / det
         else:
-            rho[i] = r0 / a11
+            rho[i] = (r0 + grad_rho[0] * a12 + grad_rho[1] * a13) / a11
             vx[i] = u0 / a11
             vz[i] = w0 / a11
         rho_old[i] = rho[i]

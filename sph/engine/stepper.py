@@ -281,7 +281,7 @@ class Stepper:
         if self.variable:
             ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
                          p.kind, p.body, p.comp, p.hs, *self._sources, self.kp, self.op,
-                         self.kin, self._reach, self._rebuilt)
+                         self.kin, self._reach, self._rebuilt, self._grad_rho())
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
@@ -323,12 +323,13 @@ class Stepper:
         and moment are those of the wall particles in their own level's region
         (:func:`sph.engine.refinement.wall_regions`): a coarse wall particle inside a
         finer box would add, from the coarse fluid across the box's edge, a push that the
-        fine fluid already gives the fine wall particles there."""
-        p = self.parts
-        own = wall_regions(p.x, p.z, p.kind, p.body, p.hs, self.boxes)
+        fine fluid already gives the fine wall particles there. Which they are is decided
+        when the lists are rebuilt (:meth:`_mark_ghosts`)."""
+        own = self._wall_own
+        body = self.parts.body[own]
         nb = len(self.kin)
         for k, out in enumerate((self._fx, self._fz, self._mom)):
-            out[:] = np.bincount(p.body[own], weights=self._pf[own, k], minlength=nb)[:nb]
+            out[:] = np.bincount(body, weights=self._pf[own, k], minlength=nb)[:nb]
 
     def _neighbours(self) -> None:
         """Sort by cell and rebuild the Verlet lists when a particle has moved half the skin
@@ -377,6 +378,10 @@ class Stepper:
         ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
         self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs, self.grid,
                                       self.list_radius)
+        # the wall particles whose forces count for their body (_forces_by_region), at the
+        # positions the lists were built at, as every change of refinement
+        self._wall_own = np.nonzero(wall_regions(p.x_sort, p.z_sort, p.kind, p.body, p.hs,
+                                                 self.boxes))[0]
 
     def _refresh_inner(self) -> None:
         p = self.parts

@@ -223,7 +223,7 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     """The first-order fit of a ghost's density and velocity from the active particles of
     every level reproduces a linear field to round-off, next to the box and inside it,
     where the kernel is full; near the lattice's edges (a free surface) the Shepard mean
-    stays within the field's range over the kernel."""
+    stays within the field's range over the kernel, and is exact for a fluid at rest."""
     p = _lattice(24, 16)
     boxes = pack_boxes([_Box((0.85, 1.55), (0.5, 1.1), 1)])
     q, _ = _refined(p, boxes)
@@ -252,6 +252,17 @@ def test_ghost_fields_are_exact_for_a_linear_field():
         slope = math.hypot(lin[k][1], lin[k][2])
         assert np.all(np.abs(work[k] - v)[ghost] <= slope * support), k
         np.testing.assert_array_equal(old[k][ghost], work[k][ghost])
+    # a fluid at rest: the Shepard mean near the edges carries each source's density along
+    # the hydrostatic gradient, so that every ghost, at a free surface too, is exact
+    hydro = 1000.0 - 9.0 * z
+    rho = np.where(ghost, 0.0, hydro)
+    ghost_fields(x, z, np.zeros(n), np.zeros(n), rho, np.zeros(n), np.zeros(n), np.zeros(n),
+                 m, kind, body, kind, hs,
+                 *ghost_sources(x, z, kind, body, hs, grid, support * 1.15), kp,
+                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True, (0.0, -9.0))
+    fitted = ghost & (rho != 0.0)
+    assert (fitted & ~full).sum() > 50
+    np.testing.assert_allclose(rho[fitted], hydro[fitted], rtol=0, atol=1e-9 * 1000.0)
 
 
 def test_levels_do_not_interact():
