@@ -314,14 +314,17 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = Tr
 
 
 @njit(**JIT_PARALLEL)
-def ghosts_in_reach(start, index, kind, body, out):
-    """Mark the ghosts that an active particle of their level may reach before the lists
-    are rebuilt (one in their Verlet list: the lists hold one level): only their density
-    and velocity act on the fluid at every step; the others, deep in a finer box or far
-    out in a buffer, need their velocity only to move along."""
+def in_reach(start, index, kind, body, out):
+    """Mark the ghosts and the wall particles that an active fluid particle of their level
+    may reach before the lists are rebuilt (one in their Verlet list: the lists hold one
+    level). Only these act on the fluid: a ghost's density and velocity are fitted at every
+    step (:func:`ghost_fields`), a wall particle's pressure is extrapolated and its force
+    taken (:func:`sph.engine.walls.wall_pressure`, :func:`sph.engine.walls.wall_forces`).
+    The others, deep in a finer box or far out in a buffer (a coarse hull inside its box),
+    need a ghost's velocity only to move along."""
     for i in prange(out.shape[0]):
         out[i] = False
-        if kind[i] != FLUID or body[i] != GHOST:
+        if kind[i] == FLUID and body[i] != GHOST:
             continue
         for k in range(start[i], start[i + 1]):
             j = index[k]
@@ -407,7 +410,7 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     a smoothing length; its pressure pushed the active particles beside it up and out, and
     the fine particles at a box's edge rose out of a still tank's surface. Both
     leapfrog levels take the fitted values; a ghost with no active particle in reach keeps
-    its own. Only the ghosts marked in ``reach`` (:func:`ghosts_in_reach`) are fitted,
+    its own. Only the ghosts marked in ``reach`` (:func:`in_reach`) are fitted,
     unless ``every`` (the steps the lists are rebuilt at: the others move with the velocity
     of their last fit in between). The candidates are the ghost's sources
     ``src_index[src_start[i]:src_start[i + 1]]`` (:func:`ghost_sources`)."""

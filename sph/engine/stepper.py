@@ -45,7 +45,7 @@ from sph.engine.refinement import (
     assign,
     ghost_fields,
     ghost_sources,
-    ghosts_in_reach,
+    in_reach,
     level_counts,
     pack_boxes,
     spawn,
@@ -209,6 +209,12 @@ class Stepper:
     def b(self) -> float:
         return self.scales.b
 
+    def _wall_reach(self):
+        """The wall particles the wall loops do: those within reach of active fluid under
+        refinement (:func:`sph.engine.refinement.in_reach`), None (all) at uniform
+        resolution."""
+        return self._reach if self.variable else None
+
     def _hs(self, parts):
         """The smoothing length ratios the wall and list loops take: None at uniform
         resolution, so that they are compiled without them."""
@@ -287,7 +293,7 @@ class Stepper:
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
-                      self.tension != NONE)
+                      self.tension != NONE, self._wall_reach())
         if self._surf is not None:
             free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
@@ -312,7 +318,7 @@ class Stepper:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp,
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
-                        self.nlist.inner_end, self.tension, self._surf)
+                        self.nlist.inner_end, self.tension, self._surf, self._wall_reach())
             if self.variable:
                 self._forces_by_region()
             for body in self.bodies:
@@ -368,14 +374,14 @@ class Stepper:
         self._rebuilt = True
 
     def _mark_ghosts(self) -> None:
-        """The ghosts within reach of active particles (:func:`ghosts_in_reach`) and the
+        """The ghosts and walls within reach of active particles (:func:`in_reach`) and the
         particles each ghost is fitted from (:func:`ghost_sources`), at the positions the
         lists were built at."""
         if not self.variable:
             return
         p = self.parts
         self._reach = np.zeros(p.n, dtype=np.bool_)
-        ghosts_in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
+        in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
         self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs, self.grid,
                                       self.list_radius)
         # the wall particles whose forces count for their body (_forces_by_region), at the

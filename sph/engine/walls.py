@@ -87,7 +87,7 @@ def _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max, op, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, b_coef,
-                  gamma, vol0, op, start, inner, inner_end, clamp=True):
+                  gamma, vol0, op, start, inner, inner_end, clamp=True, reach=None):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0 hs^2`` (= dx^2 at its refinement level; walls
@@ -98,12 +98,17 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
     wall in tension would attract the fluid through itself. The fluid neighbours come from the wall
     particle's inner list ``inner[start[i]:inner_end[i]]``
     (:class:`sph.engine.neighbours.NeighbourList`); the line-of-sight test is made only for
-    the damaged hull's wall particles within reach of an open opening."""
+    the damaged hull's wall particles within reach of an open opening. Under variable
+    resolution only the wall particles marked in ``reach`` are done (those with an active
+    fluid particle in their list, :func:`sph.engine.refinement.in_reach`: no other reads
+    them before the lists are rebuilt); None: all."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
     for i in prange(n):
         if kind[i] != WALL:
+            continue
+        if reach is not None and not reach[i]:
             continue
         b = body[i]
         xi = x[i]
@@ -139,7 +144,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, mom, pf,
-                scale, op, start, inner, inner_end, tension=CLAMP, surf=None):
+                scale, op, start, inner, inner_end, tension=CLAMP, surf=None, reach=None):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}
@@ -151,12 +156,19 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
     the fluid of compartment ``c`` is multiplied by ``scale[c]``. Neighbours as in
     :func:`wall_pressure`. The pressure sum of a pair follows ``numerics.wall_tension`` as
     in the momentum equation (``tension``, ``surf``: :func:`sph.engine.fluid.interact`), so
-    that the force on the body is the reaction of the force on the fluid."""
+    that the force on the body is the reaction of the force on the fluid. ``reach``: as
+    in :func:`wall_pressure` (a wall particle with no active fluid in its list takes no
+    force)."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
     for i in prange(n):
         if kind[i] != WALL or body[i] == 0:
+            continue
+        if reach is not None and not reach[i]:
+            pf[i, 0] = 0.0
+            pf[i, 1] = 0.0
+            pf[i, 2] = 0.0
             continue
         xi = x[i]
         zi = z[i]
