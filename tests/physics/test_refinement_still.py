@@ -1,17 +1,15 @@
 """Still water across refinement levels (slow): a tank 1 m long and 1 m deep at dx = 0.1 m
 with one box of level 1 (two levels) or a box of level 2 inside it (three levels, dx down to
 0.025 m), settled for 60 s. Run with
-``python -m pytest -m slow tests/physics/test_refinement_still.py`` (about 10 and 30
+``python -m pytest -m slow tests/physics/test_refinement_still.py`` (about 5 and 20
 minutes on one core).
 
-What holds: the largest speed of the mass-carrying particles is below 0.5 % of sqrt(g H)
-and the active mass is constant to 1e-12. What does not hold yet (strict xfail, measured
-2026-11-27): the bottom pressure reads 1.1 % (two levels) and 2.2 % (three levels) above
-rho g H, against 0.75 % for the uniform tank at dx = 0.1 m; and a few families at the free
-surface beside a level boundary change level (two levels: 60 / 160 particles per level at
-the start, 57 / 172 after 60 s), so the count per level is not steady.
+What holds: the largest speed of the mass-carrying particles is below 0.5 % of sqrt(g H),
+the active mass is constant to 1e-12 and the particles per level do not change; with two
+levels the bottom pressure is within 1 % of rho g H (1.008 at 60 s; the uniform tank reads
+1.005). What does not hold yet (strict xfail, measured 2026-11-27): with three levels the
+bottom pressure creeps up, 1.015-1.017 of rho g H at 30 s (docs/validation/refinement.md).
 """
-
 import math
 
 import numpy as np
@@ -55,14 +53,22 @@ def test_still_water_across_levels_settles_and_keeps_its_mass(settled):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="bottom pressure 1.1-2.2 % above rho g H and a few "
-                   "surface families change level (docs/validation/refinement.md)")
-def test_still_water_across_levels_is_hydrostatic_with_steady_counts(settled):
+def test_still_water_across_levels_keeps_its_counts_per_level(settled):
+    """No family changes level in still water (the hysteresis at the box edges)."""
     levels, sim, start = settled
+    np.testing.assert_array_equal(level_counts(sim.parts, levels - 1), start["counts"])
+
+
+@pytest.mark.slow
+def test_still_water_across_levels_is_hydrostatic(settled, request):
+    levels, sim, start = settled
+    if levels == 3:
+        request.applymarker(pytest.mark.xfail(
+            strict=True, reason="with three levels the bottom pressure creeps up to 1.5 % "
+            "above rho g H by 30 s (docs/validation/refinement.md)"))
     p = sim.parts
     a = active_fluid(p)
     q = p.take(a | (p.kind != 0))
     pres = point_pressures(q.x, q.z, q.m, q.rho, q.p, q.kind, BOTTOM_X,
                            np.zeros_like(BOTTOM_X), sim.kp, sim.gx, sim.gz)
     np.testing.assert_allclose(pres / (1000.0 * 9.81 * DEPTH), 1.0, atol=0.01)
-    np.testing.assert_array_equal(level_counts(p, levels - 1), start["counts"])
