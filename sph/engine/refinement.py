@@ -90,7 +90,7 @@ BUFFER = 5.5
 STRAY = 1.8
 #: a family changes level once its level-0 particle is this many spacings of the box's
 #: level past the box's edge (:func:`_family_levels`)
-HYSTERESIS = 1.0
+HYSTERESIS = 0.5
 
 
 def pack_boxes(boxes) -> np.ndarray:
