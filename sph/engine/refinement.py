@@ -403,8 +403,8 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     (as the density filter, :func:`sph.engine.filters.mls_density`), exact for a linear
     field; the Shepard mean where :math:`A_g` is near singular or the kernel is less than
     :data:`MLS_SUPPORT` full (at a free surface or a splash a linear fit extrapolates, and
-    a ghost given a wild velocity would carry it when its family turns active there), the
-    density each source's carried to the ghost along the hydrostatic gradient ``grad_rho``
+    a ghost given a wild velocity would carry it when its family turns active there), with
+    each source's density carried to the ghost along the hydrostatic gradient ``grad_rho``
     (:math:`(\rho_0 / c_0^2)\,\mathbf{g}`): the sources of a ghost at a free surface lie
     below it on the whole, and their plain mean gave it the density of a depth of about
     a smoothing length; its pressure pushed the active particles beside it up and out, and
