@@ -143,46 +143,20 @@ class NeighbourList:
         n = x.shape[0]
         if self.start.shape[0] != n + 1:
             self.start = np.zeros(n + 1, dtype=self.DTYPE_START)
-        if hs is not None:
-            self._build_by_level(x, z, kind, grid, radius, hs)
-            return
-        _count_neighbours(x, z, kind, hs, grid.cell_of, grid.cell_start, grid.ncx,
-                          radius * radius, self.start)
+        # each level's particles in cells of their own (pairs of different levels are
+        # never listed), or all in the grid's
+        bins = [(None, grid)] if hs is None else _level_grids(x, z, hs, grid, radius)
+        self.start[:] = 0
+        for perm, g in bins:
+            _count_neighbours(x, z, kind, hs, perm, g.cell_of, g.cell_start, g.ncx,
+                              radius * radius, self.start[1:])
+        np.cumsum(self.start[1:], out=self.start[1:])
         total = int(self.start[n])
         if self.index.shape[0] < total:
             self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
-        _fill_neighbours(x, z, kind, hs, grid.cell_of, grid.cell_start, grid.ncx,
-                         radius * radius, self.start, self.index)
-
-    def _build_by_level(self, x, z, kind, grid: CellGrid, radius: float, hs) -> None:
-        """:meth:`build` under variable resolution: a pair of different levels is never
-        listed, so each level's particles are binned in cells of their own list radius and
-        searched there (in the cells of the coarsest level a particle of level ``l`` would
-        test :math:`4^l` times the candidates it needs). A list holds its neighbours in the
-        order of their level's cells."""
-        n = x.shape[0]
-        ratio = np.rint(-np.log2(hs)).astype(np.int64)
-        xmin, xmax, zmin, zmax = grid.bounds
-        inside = (x >= xmin) & (x <= xmax) & (z >= zmin) & (z <= zmax)
-        counts = np.zeros(n, dtype=self.DTYPE_START)
-        levels = []
-        for lev in np.unique(ratio):
-            sel = np.nonzero((ratio == lev) & inside)[0]
-            xs, zs = x[sel], z[sel]
-            sub = CellGrid(xs.min(), xs.max(), zs.min(), zs.max(), radius * 2.0 ** -lev)
-            sub.sort(xs, zs)
-            perm = sel[sub.order]
-            _count_level(x, z, kind, hs, perm, sub.cell_of, sub.cell_start, sub.ncx,
-                         radius * radius, counts)
-            levels.append((perm, sub))
-        self.start[0] = 0
-        np.cumsum(counts, out=self.start[1:])
-        total = int(self.start[n])
-        if self.index.shape[0] < total:
-            self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
-        for perm, sub in levels:
-            _fill_level(x, z, kind, hs, perm, sub.cell_of, sub.cell_start, sub.ncx,
-                        radius * radius, self.start, self.index)
+        for perm, g in bins:
+            _fill_neighbours(x, z, kind, hs, perm, g.cell_of, g.cell_start, g.ncx,
+                             radius * radius, self.start, self.index)
 
     def refresh(self, x, z, radius: float, hs) -> None:
         """The inner lists of radius ``radius`` (at most the radius of :meth:`build`, and
@@ -199,6 +173,27 @@ class NeighbourList:
             self.inner_end = np.zeros(n, dtype=self.DTYPE_START)
         _fill_inner(x, z, hs, radius * radius, self.start, self.index, self.inner,
                     self.inner_end)
+
+
+def _level_grids(x, z, hs, grid: CellGrid, radius: float) -> list[tuple]:
+    """Under variable resolution a pair of different levels is never listed, so each
+    level's particles are binned in cells of their own list radius (in the cells of the
+    coarsest level a particle of level ``l`` would test :math:`4^l` times the candidates it
+    needs): ``(perm, cells)`` per level, ``perm`` the particles in the cells' order. A
+    particle outside the grid's domain is left out (its list stays empty)."""
+    level = np.rint(-np.log2(hs)).astype(np.int64)
+    xmin, xmax, zmin, zmax = grid.bounds
+    inside = (x >= xmin) & (x <= xmax) & (z >= zmin) & (z <= zmax)
+    out = []
+    for lev in np.unique(level):
+        sel = np.nonzero((level == lev) & inside)[0]
+        if len(sel) == 0:
+            continue
+        xs, zs = x[sel], z[sel]
+        cells = CellGrid(xs.min(), xs.max(), zs.min(), zs.max(), radius * 2.0 ** -lev)
+        cells.sort(xs, zs)
+        out.append((sel[cells.order], cells))
+    return out
 
 
 @njit(inline="always", **JIT)
@@ -220,54 +215,36 @@ def _inside(x, z, xmin, xmax, zmin, zmax):
 
 
 @njit(**JIT_PARALLEL)
-def _count_neighbours(x, z, kind, hs, cell_of, cell_start, ncx, r2, start):
-    n = x.shape[0]
-    for i in prange(n):
-        cnt = 0
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                cnt += 1 if _listed(i, j, x, z, kind, hs, r2) else 0
-        start[i + 1] = cnt
-    start[0] = 0
-    for i in range(n):
-        start[i + 1] += start[i]
-
-
-@njit(**JIT_PARALLEL)
-def _fill_neighbours(x, z, kind, hs, cell_of, cell_start, ncx, r2, start, index):
-    for i in prange(x.shape[0]):
-        if start[i + 1] == start[i]:
-            continue
-        k = start[i]
-        end = start[i + 1]
-        c = cell_of[i]
-        for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                if k < end:  # the last store of a full list would fall on the next one
-                    index[k] = j
-                k += np.uint64(1) if _listed(i, j, x, z, kind, hs, r2) else np.uint64(0)
-
-
-@njit(**JIT_PARALLEL)
-def _count_level(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, counts):
-    """:func:`_count_neighbours` for the particles ``perm`` of one level, binned in cells of
-    their own (``cell_of`` and ``cell_start`` in the order of ``perm``)."""
-    for k in prange(perm.shape[0]):
-        i = perm[k]
+def _count_neighbours(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, counts):
+    """The length of each particle's list into ``counts``. The particles are binned in
+    ``cell_of``/``cell_start`` in the order of ``perm`` (the particles of one refinement
+    level in cells of their own), or in their own order (``perm`` None)."""
+    for k in prange(cell_of.shape[0]):
+        if perm is None:
+            i = np.int64(k)
+        else:
+            i = np.int64(perm[k])
         cnt = 0
         c = cell_of[k]
         for row in (c - ncx, c, c + ncx):
             for m in range(cell_start[row - 1], cell_start[row + 2]):
-                cnt += 1 if _listed(i, perm[m], x, z, kind, hs, r2) else 0
+                if perm is None:
+                    j = np.int64(m)
+                else:
+                    j = np.int64(perm[m])
+                cnt += 1 if _listed(i, j, x, z, kind, hs, r2) else 0
         counts[i] = cnt
 
 
 @njit(**JIT_PARALLEL)
-def _fill_level(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, start, index):
-    """:func:`_fill_neighbours` for the particles ``perm`` of one level (:func:`_count_level`)."""
-    for k in prange(perm.shape[0]):
-        i = perm[k]
+def _fill_neighbours(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, start, index):
+    """Each particle's list into ``index[start[i]:start[i + 1]]``, binned as in
+    :func:`_count_neighbours`."""
+    for k in prange(cell_of.shape[0]):
+        if perm is None:
+            i = np.int64(k)
+        else:
+            i = np.int64(perm[k])
         if start[i + 1] == start[i]:
             continue
         e = start[i]
@@ -275,7 +252,10 @@ def _fill_level(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, start, index
         c = cell_of[k]
         for row in (c - ncx, c, c + ncx):
             for m in range(cell_start[row - 1], cell_start[row + 2]):
-                j = perm[m]
+                if perm is None:
+                    j = np.int64(m)
+                else:
+                    j = np.int64(perm[m])
                 if e < end:  # the last store of a full list would fall on the next one
                     index[e] = j
                 e += np.uint64(1) if _listed(i, j, x, z, kind, hs, r2) else np.uint64(0)
