@@ -19,6 +19,7 @@ is then that of the summed times, with the median of the per-block ratios beside
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import statistics
@@ -114,3 +115,20 @@ def summary(mine: list[float], ref: list[float]) -> dict:
             "median_reference_rate": statistics.median(ref),
             "median_ratio": round(statistics.median(ratios), 3),
             "ratios": [round(r, 3) for r in ratios]}
+
+
+def run_report_main(doc: str, run, report, run_args) -> None:
+    """The command line of a benchmark that runs cases into a folder and compares them:
+    ``run --out DIR [options]`` calls ``run(args)``, ``report DIR`` calls ``report(args)``;
+    ``run_args(parser)`` adds the run's own options. ``doc``: the module docstring."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--out", required=True)
+    run_args(r)
+    r.set_defaults(fn=run)
+    p = sub.add_parser("report")
+    p.add_argument("dir")
+    p.set_defaults(fn=report)
+    args = ap.parse_args()
+    args.fn(args)

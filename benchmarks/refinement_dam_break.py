@@ -15,13 +15,13 @@ the fine run, and writes ``DIR/refinement_dam_break.json``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from compare import run_report_main
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -80,19 +80,13 @@ def report(args) -> None:
     (d / "refinement_dam_break.json").write_text(json.dumps(result, indent=1))
 
 
+def _run_args(parser) -> None:
+    parser.add_argument("--mode", choices=sorted(MODES), required=True)
+    parser.add_argument("--threads", type=int, default=1)
+
+
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="cmd", required=True)
-    r = sub.add_parser("run")
-    r.add_argument("--mode", choices=sorted(MODES), required=True)
-    r.add_argument("--out", required=True)
-    r.add_argument("--threads", type=int, default=1)
-    r.set_defaults(fn=run)
-    p = sub.add_parser("report")
-    p.add_argument("dir")
-    p.set_defaults(fn=report)
-    args = ap.parse_args()
-    args.fn(args)
+    run_report_main(__doc__, run, report, _run_args)
 
 
 if __name__ == "__main__":

@@ -17,13 +17,13 @@ with the run without it; it prints the table and writes ``DIR/refinement_wave.js
 
 from __future__ import annotations
 
-import argparse
 import cmath
 import json
 import time
 from pathlib import Path
 
 import numpy as np
+from compare import run_report_main
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -127,21 +127,15 @@ def report(args) -> None:
     (d / "refinement_wave.json").write_text(json.dumps(result, indent=1))
 
 
+def _run_args(parser) -> None:
+    parser.add_argument("--levels", type=int, choices=sorted(BOXES), required=True)
+    parser.add_argument("--dx", type=float, default=0.025)
+    parser.add_argument("--t-end", type=float, default=WINDOW[1])
+    parser.add_argument("--threads", type=int, default=2)
+
+
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="cmd", required=True)
-    r = sub.add_parser("run")
-    r.add_argument("--levels", type=int, choices=sorted(BOXES), required=True)
-    r.add_argument("--out", required=True)
-    r.add_argument("--dx", type=float, default=0.025)
-    r.add_argument("--t-end", type=float, default=WINDOW[1])
-    r.add_argument("--threads", type=int, default=2)
-    r.set_defaults(fn=run)
-    p = sub.add_parser("report")
-    p.add_argument("dir")
-    p.set_defaults(fn=report)
-    args = ap.parse_args()
-    args.fn(args)
+    run_report_main(__doc__, run, report, _run_args)
 
 
 if __name__ == "__main__":
