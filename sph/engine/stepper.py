@@ -209,11 +209,18 @@ class Stepper:
     def b(self) -> float:
         return self.scales.b
 
-    def _wall_reach(self):
-        """The wall particles the wall loops do: those within reach of active fluid under
-        refinement (:func:`sph.engine.refinement.in_reach`), None (all) at uniform
-        resolution."""
-        return self._reach if self.variable else None
+    def _wall_reach(self, forces: bool = False):
+        """The wall particles the wall loops do, None (all) at uniform resolution. Under
+        refinement (:meth:`_mark_ghosts`): for the pressure, those within reach of active
+        fluid (:func:`sph.engine.refinement.in_reach`); for the forces on bodies, of
+        those the ones in their own level's region
+        (:func:`sph.engine.refinement.wall_regions`): a moving body carries wall layers of
+        every level, and a coarse wall particle inside a finer box would add, from the
+        coarse fluid across the box's edge, a push that the fine fluid already gives the
+        fine wall particles there."""
+        if not self.variable:
+            return None
+        return self._force_walls if forces else self._reach
 
     def _hs(self, parts):
         """The smoothing length ratios the wall and list loops take: None at uniform
@@ -318,24 +325,10 @@ class Stepper:
             wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp,
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
-                        self.nlist.inner_end, self.tension, self._surf, self._wall_reach())
-            if self.variable:
-                self._forces_by_region()
+                        self.nlist.inner_end, self.tension, self._surf,
+                        self._wall_reach(forces=True))
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
-
-    def _forces_by_region(self) -> None:
-        """Under refinement a moving body carries wall layers of every level. Its force
-        and moment are those of the wall particles in their own level's region
-        (:func:`sph.engine.refinement.wall_regions`): a coarse wall particle inside a
-        finer box would add, from the coarse fluid across the box's edge, a push that the
-        fine fluid already gives the fine wall particles there. Which they are is decided
-        when the lists are rebuilt (:meth:`_mark_ghosts`)."""
-        own = self._wall_own
-        body = self.parts.body[own]
-        nb = len(self.kin)
-        for k, out in enumerate((self._fx, self._fz, self._mom)):
-            out[:] = np.bincount(body, weights=self._pf[own, k], minlength=nb)[:nb]
 
     def _neighbours(self) -> None:
         """Sort by cell and rebuild the Verlet lists when a particle has moved half the skin
@@ -374,8 +367,9 @@ class Stepper:
         self._rebuilt = True
 
     def _mark_ghosts(self) -> None:
-        """The ghosts and walls within reach of active particles (:func:`in_reach`) and the
-        particles each ghost is fitted from (:func:`ghost_sources`), at the positions the
+        """The ghosts and walls within reach of active particles (:func:`in_reach`), the
+        particles each ghost is fitted from (:func:`ghost_sources`) and the wall particles
+        whose forces count for their body (:meth:`_wall_reach`), at the positions the
         lists were built at."""
         if not self.variable:
             return
@@ -384,10 +378,10 @@ class Stepper:
         in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
         self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs, self.grid,
                                       self.list_radius)
-        # the wall particles whose forces count for their body (_forces_by_region), at the
+        # the wall particles whose forces count for their body (_wall_reach), at the
         # positions the lists were built at, as every change of refinement
-        self._wall_own = np.nonzero(wall_regions(p.x_sort, p.z_sort, p.kind, p.body, p.hs,
-                                                 self.boxes))[0]
+        self._force_walls = self._reach & wall_regions(p.x_sort, p.z_sort, p.kind, p.body,
+                                                       p.hs, self.boxes)
 
     def _refresh_inner(self) -> None:
         p = self.parts

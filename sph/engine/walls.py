@@ -156,9 +156,10 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
     the fluid of compartment ``c`` is multiplied by ``scale[c]``. Neighbours as in
     :func:`wall_pressure`. The pressure sum of a pair follows ``numerics.wall_tension`` as
     in the momentum equation (``tension``, ``surf``: :func:`sph.engine.fluid.interact`), so
-    that the force on the body is the reaction of the force on the fluid. ``reach``: as
-    in :func:`wall_pressure` (a wall particle with no active fluid in its list takes no
-    force)."""
+    that the force on the body is the reaction of the force on the fluid. ``reach``: under
+    variable resolution, the wall particles whose forces count for their body (within
+    reach of active fluid and in their own level's region); the others add nothing. None:
+    all."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)
