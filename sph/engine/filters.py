@@ -27,10 +27,24 @@ from __future__ import annotations
 
 from numba import prange
 
-from sph.engine.jit import JIT_PARALLEL, njit
+from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import passable, sees
 from sph.engine.particles import FLUID
+
+
+@njit(inline="always", **JIT)
+def mls_solve(a11, a12, a13, a22, a23, a33):
+    r"""The first row of the inverse of the symmetric first-order MLS moment matrix
+    :math:`A = \sum_j \mathbf{b}_j\mathbf{b}_j^T W_j V_j`, :math:`\mathbf{b} = (1, dx,
+    dz)`, as cofactors over the determinant: ``c11, c12, c13, det``; the fit of a field
+    with moments ``f0, f1, f2`` is ``(c11 f0 + c12 f1 + c13 f2) / det``. ``regular``:
+    false where :math:`A` is near singular (the caller then takes the Shepard mean)."""
+    c11 = a22 * a33 - a23 * a23
+    c12 = -(a12 * a33 - a13 * a23)
+    c13 = a12 * a23 - a13 * a22
+    det = a11 * c11 + a12 * c12 + a13 * c13
+    return c11, c12, c13, det, det > 1.0e-3 * a11 * a22 * a33 and det > 0.0
 
 
 @njit(**JIT_PARALLEL)
@@ -72,11 +86,8 @@ def mls_density(x, z, rho, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp
                 s0 += mw
                 s1 += mw * dx
                 s2 += mw * dz
-        c11 = a22 * a33 - a23 * a23
-        c12 = -(a12 * a33 - a13 * a23)
-        c13 = a12 * a23 - a13 * a22
-        det = a11 * c11 + a12 * c12 + a13 * c13
-        if det > 1.0e-3 * a11 * a22 * a33 and det > 0.0:
+        c11, c12, c13, det, regular = mls_solve(a11, a12, a13, a22, a23, a33)
+        if regular:
             out[i] = (c11 * s0 + c12 * s1 + c13 * s2) / det
         elif a11 > 0.0:
             out[i] = s0 / a11

@@ -71,6 +71,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.config import MAX_LEVEL
+from sph.engine.filters import mls_solve
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, w_scaled
 from sph.engine.opening import sees
@@ -451,11 +452,8 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
             w2 += vw * vz[j] * dz
         if a11 <= 0.0:
             continue
-        c11 = a22 * a33 - a23 * a23
-        c12 = -(a12 * a33 - a13 * a23)
-        c13 = a12 * a23 - a13 * a22
-        det = a11 * c11 + a12 * c12 + a13 * c13
-        if a11 > MLS_SUPPORT and det > 1.0e-3 * a11 * a22 * a33 and det > 0.0:
+        c11, c12, c13, det, regular = mls_solve(a11, a12, a13, a22, a23, a33)
+        if a11 > MLS_SUPPORT and regular:
             rho[i] = (c11 * r0 + c12 * r1 + c13 * r2_) / det
             vx[i] = (c11 * u0 + c12 * u1 + c13 * u2) / det
             vz[i] = (c11 * w0 + c12 * w1 + c13 * w2) / det
