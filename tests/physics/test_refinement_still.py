@@ -44,6 +44,12 @@ def settled(request):
     return levels, sim, start
 
 
+def _expect_failure_with_three_levels(request, levels, why):
+    """Mark the test a strict expected failure for the three-level tank."""
+    if levels == 3:
+        request.applymarker(pytest.mark.xfail(strict=True, reason=f"with three levels {why}"))
+
+
 @pytest.mark.slow
 def test_still_water_across_levels_settles_and_keeps_its_mass(settled):
     levels, sim, start = settled
@@ -57,20 +63,18 @@ def test_still_water_across_levels_settles_and_keeps_its_mass(settled):
 def test_still_water_across_levels_keeps_its_counts_per_level(settled, request):
     """No family changes level in still water (the hysteresis at the box edges)."""
     levels, sim, start = settled
-    if levels == 3:
-        request.applymarker(pytest.mark.xfail(
-            strict=True, reason="with three levels one family changes level between 30 and "
-            "60 s (60 / 80 / 320 -> 59 / 84 / 320; docs/validation/refinement.md)"))
+    _expect_failure_with_three_levels(
+        request, levels, "one family changes level between 30 and 60 s (60 / 80 / 320 -> "
+        "59 / 84 / 320; docs/validation/refinement.md)")
     np.testing.assert_array_equal(level_counts(sim.parts, levels - 1), start["counts"])
 
 
 @pytest.mark.slow
 def test_still_water_across_levels_is_hydrostatic(settled, request):
     levels, sim, start = settled
-    if levels == 3:
-        request.applymarker(pytest.mark.xfail(
-            strict=True, reason="with three levels the bottom pressure creeps up to 1.5 % "
-            "above rho g H by 30 s (docs/validation/refinement.md)"))
+    _expect_failure_with_three_levels(
+        request, levels, "the bottom pressure creeps up to 1.5 % above rho g H by 30 s "
+        "(docs/validation/refinement.md)")
     p = sim.parts
     a = active_fluid(p)
     q = p.take(a | (p.kind != 0))
