@@ -441,9 +441,14 @@ def setup(cfg: CaseConfig) -> CaseSetup:
 
     # the dry part: the rigid body (the cargo is fluid)
     cog0, theta0 = _pose(g, 0.0, kg)
+    # the cargo moves with the hull, and is heavier than a light dry part: its mass and
+    # frozen inertia about the dry part's centre of gravity stabilise the coupling
+    # (sph.bodies.rigid)
+    j_cargo = m.cargo_inertia + m.cargo * (m.cargo_kg - m.dry_kg) ** 2
     body = RigidBody(m.dry, m.dry_inertia, cog0, g.dofs, cfg.fluid.gravity,
                      segments=[(1 + n_seg + s, seg["weight"], s * pitch)
-                               for s, seg in enumerate(segs)])
+                               for s, seg in enumerate(segs)],
+                     added_mass=(m.cargo, m.cargo, j_cargo))
     body.q[2] = theta0
     motions = [Shifted(flap, s * pitch) for s in range(n_seg)]
     motions += [body.segment_motion(s) for s in range(n_seg)]

@@ -188,7 +188,31 @@ def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
 
 
 #: the loaded intact ship of Table I: two cabins in three with cargo, the middle one empty
-LOADED = {0.25: 1000.0, 0.5: 1000.0}
+LOADED = {0.25: 1000.0, 0.5: 1000.0, 0.75: 850.0}
+#: the small tank of the loaded decay runs
+DECAY_TANK = ["numerics.dx=0.8", "geometry.depth=15", "geometry.tank_length=60",
+              "geometry.ship_x=30", "geometry.tank_height=25", "geometry.intact_cabins=2",
+              "geometry.damaged_cabins=1", "geometry.damage.opening=0"]
+
+
+@pytest.mark.slow
+def test_light_loaded_ship_stays_afloat_upright_in_still_water():
+    """At 75 % fill (oil) the dry part is 9.6 t/m carrying 56.6 t/m of cargo. Coupled
+    explicitly, the cargo's lagged reaction overshoots the light body at every step (the
+    added-mass instability): released upright in still water, in hydrostatic balance, the
+    ship was thrown 3 m up and heeled 4 degree within 0.5 s. With the cargo's mass and
+    inertia as the stabilising added mass (:mod:`sph.bodies.rigid`) it stays put: over 3 s
+    (half a heave period) measured heave below 0.27 m and heel below 0.7 degree, from the
+    start-up of the weakly compressible sea and cargo (at the start the fluid carries the
+    ship 14.6 kN/m short of its weight, 0.09 m of heave). Bounds: 0.5 m and 2 degree, a
+    tenth of what the instability reached."""
+    sim = run_builtin("ship_decay", DECAY_TANK + [
+        "run.t_end=3.0", "run.output_interval=0.1", "geometry.fill=0.75",
+        "geometry.cargo_density=850", "geometry.heel=0"])
+    ds = sim.dataset()
+    assert sim.n_lost == 0
+    assert np.abs(ds["heave"].values).max() < 0.5
+    assert np.abs(ds["roll"].values).max() < 2.0
 
 
 def loaded_decay_modes(ds, fill, density, t_fit=30.0):
@@ -224,10 +248,11 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("fill", sorted(LOADED))
-def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
+def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill, request):
     """Free roll decay of the loaded intact ship (Table I's loading: cargo in two cabins of
-    three, water at 25 and 50 %; released at 5 deg with the cargo's surface parallel to the
-    deck) in the small tank at dx = 0.8 m, 36 s (about 220 s each on one core).
+    three, water at 25 and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the
+    cargo's surface parallel to the deck) in the small tank at dx = 0.8 m, 36 s (about 220 s
+    each on one core). At 75 % the model does not hold yet (strict xfail, below).
 
     The coupled roll-sloshing model (:mod:`sph.bodies.cargo`) gives two modes that share the
     roll: one above the cargo's first sloshing frequency (ship and cargo moving against each
@@ -244,12 +269,14 @@ def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
     against the model's 0.31 and 0.40: docs/ship.md). The decay is reported (damping ratios
     0.17-0.18 low, 0.01-0.03 high) and checked to be a decay: between 0 and 0.5. The fit
     takes the first 30 s (a slow drift of the heel follows at 50 %)."""
+    if fill == 0.75:
+        request.applymarker(pytest.mark.xfail(strict=True, reason=(
+            "at 75 % (oil) the roll's spectrum peaks at 0.91 and 0.52 rad/s, against the "
+            "model's 1.47 and 0.60, undamped over 36 s, with the heave at 0.89 rad/s and "
+            "0.22 m above its draught on average (docs/ship.md)")))
     density = LOADED[fill]
-    sim = run_builtin("ship_decay", [
-        "numerics.dx=0.8", "run.t_end=36.0", "geometry.depth=15",
-        "geometry.tank_length=60", "geometry.ship_x=30", "geometry.tank_height=25",
-        f"geometry.fill={fill}", f"geometry.cargo_density={density}",
-        "geometry.intact_cabins=2", "geometry.damaged_cabins=1", "geometry.damage.opening=0"])
+    sim = run_builtin("ship_decay", DECAY_TANK + [
+        "run.t_end=36.0", f"geometry.fill={fill}", f"geometry.cargo_density={density}"])
     assert sim.n_lost == 0
     m = loaded_decay_modes(sim.dataset(), fill, density)
     est = m["estimate"]
