@@ -23,8 +23,9 @@ acceleration of the previous evaluation on the right (Soding 2001, Ship Technol.
 .. math:: (M + M_a)\,\dot V^{n} = f^{n} + M g + M_a \dot V^{n-1},
 
 which is :math:`M \dot V = f + M g` whenever the acceleration changes little from one step
-to the next (a relaxation of a fraction of a millisecond), and stable when :math:`M_a` is
-about the liquid that moves with the body. ``added_mass`` 0 (the default) is the plain
+to the next (it relaxes to it over about :math:`M_a / M` steps: some 15 ms for the 75 %
+ship, against roll and heave periods of seconds), and stable when :math:`M_a` is about the
+liquid that moves with the body. ``added_mass`` 0 (the default) is the plain
 equation. The state is advanced with the same two-level
 Verlet scheme as the fluid (:mod:`sph.engine.integrator`), inside the same step, and the
 accelerations of the last evaluation feed the wall-pressure extrapolation (Eq. 13).
