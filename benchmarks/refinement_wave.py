@@ -13,6 +13,16 @@ level-1 box (ratio 4). The same run without a box is the reference.
 the incident and reflected waves on the gauges upstream of the box (Mansard & Funke), and
 compares each run's first-harmonic amplitude and phase on the gauges downstream of the box
 with the run without it; it prints the table and writes ``DIR/refinement_wave.json``.
+
+What a box should change, resolution alone: the same tank at the box's dx everywhere,
+
+    python benchmarks/refinement_wave.py run --levels 0 --dx 0.0125 --out DIR/fine
+
+(about 8 times the coarse run), gives the wave number and the viscous decay per metre at
+each dx (fits over the upstream gauges), and from them what a box of the level-1 box's
+length should do to the wave downstream (``fine_reference`` in the report): the amplitude
+ratio exp((decay_coarse - decay_fine) L) and the phase (k_fine - k_coarse) L, with the step
+in wave number's own reflection |k_fine - k_coarse| / (k_fine + k_coarse).
 """
 
 from __future__ import annotations
@@ -124,7 +134,44 @@ def report(args) -> None:
               f", by the box {r['reflection_by_box']:.4f}; downstream amplitude / reference "
               f"{np.round(ratio, 4)}, phase {np.round(phase, 4)} rad; mass drift "
               f"{r['mass_drift']:.1e}")
+    fine = d / "fine" / "wave_L0.npz"
+    if fine.exists():
+        result["fine_reference"] = _fine_reference(runs, _load(fine), down)
     (d / "refinement_wave.json").write_text(json.dumps(result, indent=1))
+
+
+def _propagation(run):
+    """Wave number (1/m) and amplitude decay per metre fitted over the upstream gauges."""
+    a = _amplitudes(run, [f"x{x:.1f}" for x in UPSTREAM], WINDOW)
+    k = -np.polyfit(UPSTREAM, np.unwrap(np.angle(a)), 1)[0]
+    decay = -np.polyfit(UPSTREAM, np.log(np.abs(a)), 1)[0]
+    return float(k), float(decay)
+
+
+def _fine_reference(runs, fine, down) -> dict:
+    """The uniform run at the box's dx against the coarse one, what a box of the level-1
+    box's length should change downstream from that, and each run with a box against the
+    uniform fine one (module docstring)."""
+    (kc, dc), (kf, df) = _propagation(runs[0]), _propagation(fine)
+    length = BOXES[1][0]["x"][1] - BOXES[1][0]["x"][0]
+    coarse, zf = _amplitudes(runs[0], down, WINDOW), _amplitudes(fine, down, WINDOW)
+    out = dict(wavenumber_coarse=kc, wavenumber_fine=kf, decay_per_m_coarse=dc,
+               decay_per_m_fine=df,
+               step_reflection=abs(kf - kc) / (kf + kc),
+               box_amplitude_ratio_expected=float(np.exp((dc - df) * length)),
+               box_phase_expected_rad=(kf - kc) * length,
+               fine_over_coarse_downstream=[float(x) for x in np.abs(zf) / np.abs(coarse)],
+               fine_minus_coarse_phase_rad=[float(x) for x in np.angle(zf / coarse)],
+               with_box_over_fine={str(lv): [float(x) for x in
+                                            np.abs(_amplitudes(r, down, WINDOW)) / np.abs(zf)]
+                                   for lv, r in runs.items() if lv})
+    print(f"uniform fine: k {kf:.4f} 1/m (coarse {kc:.4f}), decay {100 * df:.2f} %/m (coarse "
+          f"{100 * dc:.2f}); the step in k reflects {100 * out['step_reflection']:.2f} %; a "
+          f"box of {length:g} m should change the wave downstream by "
+          f"{out['box_amplitude_ratio_expected']:.4f} in amplitude and "
+          f"{out['box_phase_expected_rad']:+.4f} rad in phase; downstream fine / coarse "
+          f"{np.round(out['fine_over_coarse_downstream'], 4)}")
+    return out
 
 
 def _run_args(parser) -> None:
