@@ -265,6 +265,7 @@ def test_changing_one_case_reruns_only_that_case(toy):
         assert rule not in counts
 
 
+@pytest.mark.slow  # 30 s; the engine's own kill-and-resume tests (test_checkpoint.py) stay
 def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
     """Issue: a workflow killed during a case (SIGKILL to Snakemake and its job, as a
     pre-empted node) and run again with ``--rerun-incomplete`` resumes the case from the
