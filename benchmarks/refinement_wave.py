@@ -136,25 +136,28 @@ def report(args) -> None:
               f"{r['mass_drift']:.1e}")
     fine = d / "fine" / "wave_L0.npz"
     if fine.exists():
-        result["fine_reference"] = _fine_reference(runs, _load(fine), down)
+        result["fine_reference"] = _fine_reference(runs, _load(fine), down, base_down, result)
     (d / "refinement_wave.json").write_text(json.dumps(result, indent=1))
 
 
-def _propagation(run):
-    """Wave number (1/m) and amplitude decay per metre fitted over the upstream gauges."""
-    a = _amplitudes(run, [f"x{x:.1f}" for x in UPSTREAM], WINDOW)
+def _propagation(run, up):
+    """Wave number (1/m) and amplitude decay per metre fitted over the upstream gauges
+    ``up``."""
+    a = _amplitudes(run, up, WINDOW)
     k = -np.polyfit(UPSTREAM, np.unwrap(np.angle(a)), 1)[0]
     decay = -np.polyfit(UPSTREAM, np.log(np.abs(a)), 1)[0]
     return float(k), float(decay)
 
 
-def _fine_reference(runs, fine, down) -> dict:
-    """The uniform run at the box's dx against the coarse one, what a box of the level-1
-    box's length should change downstream from that, and each run with a box against the
-    uniform fine one (module docstring)."""
-    (kc, dc), (kf, df) = _propagation(runs[0]), _propagation(fine)
+def _fine_reference(runs, fine, down, coarse, result) -> dict:
+    """The uniform run at the box's dx against the coarse one (``coarse``: its downstream
+    amplitudes), what a box of the level-1 box's length should change downstream from that,
+    and each run with a box (``result``: the report's) against the uniform fine one (module
+    docstring)."""
+    up = [f"x{x:.1f}" for x in UPSTREAM]
+    (kc, dc), (kf, df) = _propagation(runs[0], up), _propagation(fine, up)
     length = BOXES[1][0]["x"][1] - BOXES[1][0]["x"][0]
-    coarse, zf = _amplitudes(runs[0], down, WINDOW), _amplitudes(fine, down, WINDOW)
+    zf = _amplitudes(fine, down, WINDOW)
     out = dict(wavenumber_coarse=kc, wavenumber_fine=kf, decay_per_m_coarse=dc,
                decay_per_m_fine=df,
                step_reflection=abs(kf - kc) / (kf + kc),
@@ -163,8 +166,8 @@ def _fine_reference(runs, fine, down) -> dict:
                fine_over_coarse_downstream=[float(x) for x in np.abs(zf) / np.abs(coarse)],
                fine_minus_coarse_phase_rad=[float(x) for x in np.angle(zf / coarse)],
                with_box_over_fine={str(lv): [float(x) for x in
-                                            np.abs(_amplitudes(r, down, WINDOW)) / np.abs(zf)]
-                                   for lv, r in runs.items() if lv})
+                                            np.array(r["downstream_amplitude"]) / np.abs(zf)]
+                                   for lv, r in result.items() if lv})
     print(f"uniform fine: k {kf:.4f} 1/m (coarse {kc:.4f}), decay {100 * df:.2f} %/m (coarse "
           f"{100 * dc:.2f}); the step in k reflects {100 * out['step_reflection']:.2f} %; a "
           f"box of {length:g} m should change the wave downstream by "

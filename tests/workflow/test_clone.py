@@ -88,8 +88,7 @@ def _sweeps() -> list:
 
 
 @needs_git
-@pytest.mark.parametrize("configfile", _sweeps(),
-                         ids=lambda c: Path(c).stem if isinstance(c, str) and c else "default")
+@pytest.mark.parametrize("configfile", _sweeps(), ids=lambda c: Path(c).stem or "default")
 def test_the_copy_plans_the_sweep(clone, configfile):
     assert configfile == "" or (clone / configfile).is_file(), f"{configfile} not tracked"
     extra = ["--configfile", configfile] if configfile else []
