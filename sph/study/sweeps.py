@@ -585,6 +585,27 @@ def check_case_document(doc: Mapping, where: str):
                           str(exc).split(": ", 1)[-1] if exc.key else str(exc)) from None
 
 
+def check_documents(ship: Mapping[str, Mapping], validation: Mapping[str, Mapping]) -> None:
+    """Build the case file of every run of a sweep with the engine's checks, before any job
+    starts: ``ship`` maps each case id to its overrides (:func:`ship_overrides`),
+    ``validation`` is :func:`validation_runs`. Raises the first :class:`ConfigError`, naming
+    the run and the key; the ship's log messages about resolution are left to the runs' own
+    logs."""
+    import logging
+
+    quiet = logging.getLogger("sph")
+    level = quiet.level
+    quiet.setLevel(logging.ERROR)
+    try:
+        for cid, over in ship.items():
+            check_case_document(case_document("damaged_ship", over), f"case {cid!r}")
+        for target, runs in validation.items():
+            for run, (case, over) in runs.items():
+                check_case_document(case_document(case, over), f"validation {target}/{run}")
+    finally:
+        quiet.setLevel(level)
+
+
 def _wave_period(overrides: Mapping[str, Any]) -> float:
     omega = overrides.get("geometry.wavemaker.omega")
     if omega is None:

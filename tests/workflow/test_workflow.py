@@ -26,6 +26,9 @@ from physics_helpers import assert_same_series
 
 from sph.io.checkpoint import checkpoint_files
 from sph.io.output import read_dataset
+from sph.schema import ConfigError
+from sph.study.analysis import validation_data_dir
+from sph.study.sweeps import check_documents, load_sweep, ship_overrides, validation_runs
 
 ROOT = Path(__file__).resolve().parents[2]
 N_TABLE_ONE = 8
@@ -173,7 +176,29 @@ BAD = {
 }
 
 
+def _refusal(settings: dict) -> str:
+    """What the workflow's start (workflow/rules/common.smk) refuses the default
+    configuration with ``settings`` on top for, without a Snakemake process: the sweep's keys
+    (:func:`load_sweep`), then every run's case file (:func:`check_documents`)."""
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    config.update({"sweep": "bad", **settings})
+    try:
+        sweep = load_sweep(config, ROOT)
+        ship = {c["case"]: ship_overrides(c, sweep) for c in sweep["cases"]}
+        check_documents(ship, validation_runs(sweep, validation_data_dir()))
+    except ConfigError as exc:
+        return str(exc)
+    return ""
+
+
 @pytest.mark.parametrize("name", list(BAD))
+def test_bad_sweep_is_refused_naming_the_key(name):
+    settings, message = BAD[name]
+    assert message in _refusal(settings)
+
+
+# one refusal of each kind through Snakemake: of the sweep's keys, and of a run's case file
+@pytest.mark.parametrize("name", ["fill 1.5", "opening above the waterline"])
 def test_bad_sweep_is_refused_before_any_job(work, name):
     settings, message = BAD[name]
     bad = work / f"bad_{name.replace(' ', '_')}.yaml"

@@ -6,7 +6,6 @@
 # engine's own configuration checks (an opening above the waterline, a dx too coarse for the
 # opening, a cargo heavier than the displacement, ...).
 
-import logging
 from pathlib import Path
 import re
 
@@ -42,29 +41,12 @@ SHIP_OVERRIDES = {cid: study.ship_overrides(c, SWEEP_CFG) for cid, c in CASES.it
 VALIDATION = study.validation_runs(SWEEP_CFG, DATA_DIR)
 
 
-def _check_documents():
-    """Build every run's case file with the engine's checks; the ship's log messages about
-    resolution are left to the runs' own logs."""
-    quiet = logging.getLogger("sph")
-    level = quiet.level
-    quiet.setLevel(logging.ERROR)
-    try:
-        for cid, over in SHIP_OVERRIDES.items():
-            study.check_case_document(
-                study.case_document("damaged_ship", over), f"case {cid!r}"
-            )
-        for target, runs in VALIDATION.items():
-            for run, (case, over) in runs.items():
-                study.check_case_document(
-                    study.case_document(case, over), f"validation {target}/{run}"
-                )
-    except ConfigError as exc:
-        raise WorkflowError(f"invalid sweep configuration: {exc}") from None
-    finally:
-        quiet.setLevel(level)
+try:
+    # every run's case file built with the engine's checks (sph.study.sweeps.check_documents)
+    study.check_documents(SHIP_OVERRIDES, VALIDATION)
+except ConfigError as exc:
+    raise WorkflowError(f"invalid sweep configuration: {exc}") from None
 
-
-_check_documents()
 if "floating_box" in VALIDATION and not (DATA_DIR / "hadzic2005").is_dir():
     raise WorkflowError(
         f"validation_data: no hadzic2005/ in {str(DATA_DIR)!r}; set validation_data "
