@@ -54,25 +54,56 @@ def steady_wave(x: np.ndarray, eta: np.ndarray, k_guess: float, x0: float = 0.0)
                 phase=math.atan2(c, s), mean=mean, rms_residual=math.sqrt(ss / len(xs)))
 
 
-def havelock_comparison(ds: xr.Dataset, window=(0.5, 1.5), t_average: float = 0.5) -> dict:
+def averaged(t: np.ndarray, t_average: float | None = None) -> np.ndarray:
+    """The outputs of the time mean: the last ``t_average`` seconds, or (None) the run's
+    second half, by when the wave train's front (at U / 2 from the cylinder) has passed the
+    gauges' window at every Froude number of the sweep; over a run of 12 s that holds about
+    one and a half of the slow swings of the wave's amplitude
+    (docs/validation/current_tank.md)."""
+    t_from = 0.5 * t[-1] if t_average is None else t[-1] - t_average
+    return t >= t_from
+
+
+def havelock_comparison(ds: xr.Dataset, window=(0.5, 1.5), t_average: float | None = None
+                        ) -> dict:
     """The steady wave of a ``cylinder_in_current`` run against linear theory.
 
     ``window``: the gauges from ``window[0]`` to ``window[1]`` theoretical wave lengths
     behind the cylinder's centre (by default one wave length from 0.5, which is 1.6 f at
     F = 0.7: clear of the cylinder's local disturbance, and the part of the train that
     settles first behind its front); ``t_average``: the time mean over the last this many
-    seconds. Returns the fit of :func:`steady_wave` and the ratios of its wave length and
-    amplitude to the theory's (``wavelength_ratio``, ``amplitude_ratio``)."""
+    seconds, by default over the run's second half (:func:`averaged`). Returns the fit of
+    :func:`steady_wave` and the ratios of its wave length and amplitude to the theory's
+    (``wavelength_ratio``, ``amplitude_ratio``)."""
     a = ds.attrs
     lam, amp = a["theory_wavelength"], a["theory_amplitude"]
     names, x = gauge_positions(ds)
     xc = a["cylinder_x"]
     sel = (x >= xc + window[0] * lam) & (x <= xc + window[1] * lam)
-    t = ds["time"].values
-    late = t >= t[-1] - t_average
+    late = averaged(ds["time"].values, t_average)
     eta = ds["probe_elevation"].sel(probe=list(names[sel])).values[:, late].mean(axis=1)
     fit = steady_wave(x[sel], eta, a["theory_wavenumber"], xc)
     fit.update(theory_wavelength=lam, theory_amplitude=amp, froude=a["froude"],
                wavelength_ratio=fit["wavelength"] / lam, amplitude_ratio=fit["amplitude"] / amp,
                n_gauges=int(sel.sum()), x_from=float(x[sel][0]), x_to=float(x[sel][-1]))
     return fit
+
+
+def amplitude_history(ds: xr.Dataset, window=(0.5, 1.5)) -> dict:
+    """The wave's amplitude over the run: at each output, the elevation of the gauges of
+    :func:`havelock_comparison`'s ``window`` fitted with the theory's wavenumber held (linear
+    least squares in :math:`A\\cos\\varphi, A\\sin\\varphi, \\bar\\eta`; no time mean).
+    Shows whether the wave behind the cylinder is steady, and over how long a time mean must
+    run to hold whole swings of it. Returns ``time`` (s), ``amplitude_ratio`` (to the
+    theory's amplitude), ``phase`` (rad) and ``mean`` (m) arrays."""
+    a = ds.attrs
+    lam, k = a["theory_wavelength"], a["theory_wavenumber"]
+    names, x = gauge_positions(ds)
+    xc = a["cylinder_x"]
+    sel = (x >= xc + window[0] * lam) & (x <= xc + window[1] * lam)
+    eta = ds["probe_elevation"].sel(probe=list(names[sel])).values  # (gauge, time)
+    xs = x[sel] - xc
+    basis = np.column_stack([np.sin(k * xs), np.cos(k * xs), np.ones_like(xs)])
+    (s, c, mean), *_ = np.linalg.lstsq(basis, eta, rcond=None)
+    return dict(time=ds["time"].values, amplitude_ratio=np.hypot(s, c) / a["theory_amplitude"],
+                phase=np.arctan2(c, s), mean=mean)

@@ -14,7 +14,7 @@ import yaml
 from sph.cases.current import havelock_wave, tank_for_froude
 from sph.schema import ConfigError
 from sph.study import sweeps
-from sph.study.current import havelock_comparison, steady_wave
+from sph.study.current import amplitude_history, havelock_comparison, steady_wave
 from sph.study.validation import TARGETS
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -57,6 +57,24 @@ def test_havelock_comparison_reads_the_wave_behind_the_cylinder(froude, ratio):
     assert fit["amplitude_ratio"] == pytest.approx(ratio, rel=0.01)
     assert fit["wavelength_ratio"] == pytest.approx(1.0, rel=0.003)
     assert fit["froude"] == pytest.approx(froude, rel=1e-6)
+
+
+def test_amplitude_history_follows_a_swinging_wave():
+    """A wave whose amplitude swings by 20 % with a 4 s period (as the SPH wave behind the
+    cylinder does, docs/validation/current_tank.md) about 0.9 of theory: read at each output,
+    and its time mean over whole swings is the mean amplitude."""
+    ds = _run(0.707, 1.0)
+    t = np.arange(0.0, 12.0, 0.02)
+    swing = 0.9 + 0.2 * np.sin(2 * math.pi * t / 4.0)
+    base = ds["probe_elevation"].values[:, :1]  # the theory's profile (with its set-down)
+    eta = (base + 0.001) * swing[None, :] - 0.001
+    ds = xr.Dataset({"probe_elevation": (("probe", "time"), eta)},
+                    coords={"probe": ds["probe"].values, "time": t}, attrs=ds.attrs)
+    hist = amplitude_history(ds)
+    assert np.allclose(hist["amplitude_ratio"], swing, rtol=1e-9)
+    assert np.allclose(hist["mean"], -0.001, atol=1e-12)
+    fit = havelock_comparison(ds, t_average=8.0)  # two whole swings
+    assert fit["amplitude_ratio"] == pytest.approx(0.9, rel=1e-3)
 
 
 def test_cylinder_sweep_runs_each_froude_number_in_its_own_tank():
