@@ -32,8 +32,22 @@ def gauge_positions(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     return np.array(names), x
 
 
+def _basis(k, x):
+    """Columns sin kx, cos kx, 1 of the linear least squares of a wave of wavenumber k."""
+    return np.column_stack([np.sin(k * x), np.cos(k * x), np.ones_like(x)])
+
+
+def _window(ds: xr.Dataset, window) -> tuple[np.ndarray, np.ndarray]:
+    """Names and abscissae of the gauges from ``window[0]`` to ``window[1]`` theoretical
+    wave lengths behind the cylinder's centre."""
+    names, x = gauge_positions(ds)
+    xc, lam = ds.attrs["cylinder_x"], ds.attrs["theory_wavelength"]
+    sel = (x >= xc + window[0] * lam) & (x <= xc + window[1] * lam)
+    return names[sel], x[sel]
+
+
 def _fit_at(k, x, eta):
-    basis = np.column_stack([np.sin(k * x), np.cos(k * x), np.ones_like(x)])
+    basis = _basis(k, x)
     coef, *_ = np.linalg.lstsq(basis, eta, rcond=None)
     resid = eta - basis @ coef
     return coef, float(resid @ resid)
@@ -77,15 +91,13 @@ def havelock_comparison(ds: xr.Dataset, window=(0.5, 1.5), t_average: float | No
     (``wavelength_ratio``, ``amplitude_ratio``)."""
     a = ds.attrs
     lam, amp = a["theory_wavelength"], a["theory_amplitude"]
-    names, x = gauge_positions(ds)
-    xc = a["cylinder_x"]
-    sel = (x >= xc + window[0] * lam) & (x <= xc + window[1] * lam)
+    names, x = _window(ds, window)
     late = averaged(ds["time"].values, t_average)
-    eta = ds["probe_elevation"].sel(probe=list(names[sel])).values[:, late].mean(axis=1)
-    fit = steady_wave(x[sel], eta, a["theory_wavenumber"], xc)
+    eta = ds["probe_elevation"].sel(probe=list(names)).values[:, late].mean(axis=1)
+    fit = steady_wave(x, eta, a["theory_wavenumber"], a["cylinder_x"])
     fit.update(theory_wavelength=lam, theory_amplitude=amp, froude=a["froude"],
                wavelength_ratio=fit["wavelength"] / lam, amplitude_ratio=fit["amplitude"] / amp,
-               n_gauges=int(sel.sum()), x_from=float(x[sel][0]), x_to=float(x[sel][-1]))
+               n_gauges=len(names), x_from=float(x[0]), x_to=float(x[-1]))
     return fit
 
 
@@ -97,13 +109,9 @@ def amplitude_history(ds: xr.Dataset, window=(0.5, 1.5)) -> dict:
     run to hold whole swings of it. Returns ``time`` (s), ``amplitude_ratio`` (to the
     theory's amplitude), ``phase`` (rad) and ``mean`` (m) arrays."""
     a = ds.attrs
-    lam, k = a["theory_wavelength"], a["theory_wavenumber"]
-    names, x = gauge_positions(ds)
-    xc = a["cylinder_x"]
-    sel = (x >= xc + window[0] * lam) & (x <= xc + window[1] * lam)
-    eta = ds["probe_elevation"].sel(probe=list(names[sel])).values  # (gauge, time)
-    xs = x[sel] - xc
-    basis = np.column_stack([np.sin(k * xs), np.cos(k * xs), np.ones_like(xs)])
+    names, x = _window(ds, window)
+    eta = ds["probe_elevation"].sel(probe=list(names)).values  # (gauge, time)
+    basis = _basis(a["theory_wavenumber"], x - a["cylinder_x"])
     (s, c, mean), *_ = np.linalg.lstsq(basis, eta, rcond=None)
     return dict(time=ds["time"].values, amplitude_ratio=np.hypot(s, c) / a["theory_amplitude"],
                 phase=np.arctan2(c, s), mean=mean)
