@@ -66,6 +66,35 @@ def havelock_wave(radius: float, submergence: float, velocity: float,
                 steepness=k * amp, froude=velocity / math.sqrt(gravity * submergence))
 
 
+def havelock_surface(x, radius: float, submergence: float, velocity: float,
+                     gravity: float = 9.81) -> np.ndarray:
+    r"""The whole linear free surface over a submerged cylinder in a stream, near field
+    included (Havelock 1926; Wehausen & Laitone 1960, Sec. 21), at ``x`` measured from the
+    cylinder's centre (m, the stream towards +x):
+
+    .. math:: \eta(x) = -2a^2\left[\mathrm{PV}\!\int_0^\infty
+              \frac{k\,e^{-kf}\cos kx}{K - k}\,dk + \pi K e^{-Kf}\sin Kx\right],
+
+    the doublet :math:`U a^2` under a free surface (:math:`U^2\phi_{xx} + g\phi_z = 0`,
+    :math:`\eta = -U\phi_x / g`) with the free wave that leaves no wave upstream; far
+    downstream it tends to :func:`havelock_wave`'s :math:`-A\sin Kx`, far upstream to
+    nothing. Deep water. Shows what a fit over a window behind the cylinder reads of
+    linear theory itself (:func:`sph.study.current.havelock_comparison`)."""
+    from scipy.integrate import quad
+
+    k_wave = gravity / velocity**2
+    f, a2 = submergence, radius * radius
+    cut = 60.0 / f  # exp(-60): the integrand's tail beyond is below round-off
+    out = []
+    for xi in np.atleast_1d(np.asarray(x, dtype=float)):
+        def g(k, xi=xi):
+            return math.exp(-k * f) * k * math.cos(k * xi)
+        pv = -quad(g, 0.0, cut, weight="cauchy", wvar=k_wave, limit=400)[0]
+        out.append(-2.0 * a2 * (pv + math.pi * k_wave * math.exp(-k_wave * f)
+                                * math.sin(k_wave * xi)))
+    return np.array(out)
+
+
 def tank_for_froude(froude: float, dx: float, gravity: float = 9.81) -> dict:
     """Case-file values (dotted keys) of a ``cylinder_in_current`` tank sized for the wave
     of Froude number ``froude`` with the built-in cylinder (``sph example
