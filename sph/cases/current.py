@@ -99,9 +99,9 @@ def tank_for_froude(froude: float, dx: float, gravity: float = 9.81) -> dict:
     """Case-file values (dotted keys) of a ``cylinder_in_current`` tank sized for the wave
     of Froude number ``froude`` with the built-in cylinder (``sph example
     cylinder_in_current``): depth ``f + 2.3 / K`` (the bottom's image adds at most 1 % to
-    the wave), the gauges' window (:func:`sph.study.current.havelock_comparison`) from half
-    a wave length to 1.5 behind the cylinder, the damping zone from 2 wave lengths behind it
-    over 0.75 of one, gauges every 1/16."""
+    the wave), the damping zone from 2 wave lengths behind the cylinder over 0.75 of one
+    (the gauges' window of :func:`sph.study.current.havelock_comparison` runs from half a
+    wave length to its start), gauges every 1/16."""
     geo = load_defaults("cylinder_in_current")["geometry"]
     f, xc = float(geo["cylinder"]["submergence"]), float(geo["cylinder"]["x"])
     k = 1.0 / (f * froude**2)
