@@ -102,6 +102,23 @@ def test_stabilisation_does_not_feed_the_cargo_modes(wdt):
     assert end1 > 2.0 * start1
 
 
+def test_body_state_round_trips_and_takes_an_older_state():
+    """The state holds the acceleration before the last (the stabilisation's
+    extrapolation); a state written before it existed (no ``a_prev``) restarts with the last
+    acceleration in its place."""
+    body = RigidBody(1.0, 1.0, (0.0, 0.0), DofConfig(), 9.81, added_mass=(2.0, 2.0, 2.0))
+    for load in (1.0, 3.0):
+        body.set_forces(load, load, load)
+    state = body.get_state()
+    assert not np.allclose(state["a"], state["a_prev"])
+    again = RigidBody(1.0, 1.0, (0.0, 0.0), DofConfig(), 9.81, added_mass=(2.0, 2.0, 2.0))
+    again.set_state(state)
+    np.testing.assert_array_equal(again.a_prev, body.a_prev)
+    older = {k: v for k, v in state.items() if k != "a_prev"}
+    again.set_state(older)
+    np.testing.assert_array_equal(again.a_prev, state["a"])
+
+
 def test_roll_sign_is_positive_towards_plus_x():
     """One step from rest under constant loads: sway = fx / M dt^2 / 2, roll angle =
     -moment / I dt^2 / 2 (degrees, positive towards +x), velocities a dt; mass and inertia
