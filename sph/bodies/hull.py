@@ -290,6 +290,26 @@ def flooded_draught(hull: HullConfig, damaged_weight: float) -> float:
     return _bisect(excess, hull.draught, hull.depth)
 
 
+def flooded_metacentre(hull: HullConfig, damaged_weight: float) -> dict:
+    """Upright metacentre of the ship with the cabins of the fraction ``damaged_weight`` of
+    its length open to the sea (lost-buoyancy method, as :func:`flooded_draught`): the
+    displacement stays the intact one, A(d); the damaged cabins keep the buoyancy and the
+    waterplane of their plating only. Returns the draught ``draught`` (m), ``kb``, ``bm``
+    and ``km`` (m above the keel; ``bm`` = I' / A(d), I' the waterplane's second moment
+    per unit length); ``km`` is inf when the ship sinks. GM after damage is ``km`` less the
+    loaded ship's KG, less the cargo's free-surface correction."""
+    area = submerged(hull, hull.draught)[0]
+    d = flooded_draught(hull, damaged_weight)
+    if math.isinf(d):
+        return dict(draught=d, kb=math.inf, bm=math.inf, km=math.inf)
+    a_out, _, kb_out = submerged(hull, d)
+    a_in, _, kb_in = submerged(hull, d, hull.plating)
+    kb = (a_out * kb_out - damaged_weight * a_in * kb_in) / area
+    b_out, b_in = hull.breadth, hull.breadth - 2.0 * hull.plating
+    bm = (b_out**3 - damaged_weight * b_in**3) / 12.0 / area
+    return dict(draught=d, kb=kb, bm=bm, km=kb + bm)
+
+
 def _bisect(fn, lo: float, hi: float, n: int = 80) -> float:
     """Root of an increasing ``fn`` in ``[lo, hi]``."""
     for _ in range(n):

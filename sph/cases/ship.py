@@ -37,6 +37,7 @@ from sph.bodies.damage import DamageOpening, HullGuard, fluid_volume
 from sph.bodies.hull import (
     HullConfig,
     cabin_area,
+    flooded_metacentre,
     hydrostatics,
     mid_shape,
     opening_aperture,
@@ -138,6 +139,21 @@ def masses(cfg: CaseConfig, cargo=None) -> MassProperties:
                                  g.cargo_density, g.fill, cargo)
 
 
+def damaged_gm(cfg: CaseConfig, m: MassProperties) -> tuple[float, float]:
+    """GM of the loaded ship once its damaged cabins are open to the sea (upright,
+    lost-buoyancy method, :func:`sph.bodies.hull.flooded_metacentre`), with the cargo
+    frozen and corrected for the cargo's free surface (m); nan without damage, -inf if
+    the intact cabins cannot carry the ship."""
+    g = cfg.geometry
+    segs = _segments(g)
+    if len(segs) < 2 or not segs[1]["damaged"]:
+        return math.nan, math.nan
+    km = flooded_metacentre(g.hull, segs[1]["weight"])["km"]
+    if math.isinf(km):
+        return -math.inf, -math.inf
+    return float(km - m.ship_kg), float(km - m.ship_kg - m.free_surface)
+
+
 def cargo_area(hull: HullConfig, fill: float) -> float:
     """Cross-section area of cargo at fill ratio ``fill`` (level ``fill D`` above the cabin
     floor), m2."""
@@ -192,7 +208,15 @@ def check(cfg: CaseConfig) -> None:
                           "fill")
     if g.fill * hull.depth >= hull.depth - 2 * hull.plating:
         raise ConfigError("geometry.fill", f"must leave room below the deck; got {g.fill:g}")
-    masses(cfg)
+    m = masses(cfg)
+    gm_d, gm_d_fluid = damaged_gm(cfg, m)
+    if gm_d_fluid < 0.0:
+        log.warning("once damaged the ship's GM, corrected for the cargo's free surface, is "
+                    "%.3g m (lost-buoyancy method, upright; intact %.3g m, the cargo's "
+                    "free-surface correction %.3g m at geometry.fill = %g, "
+                    "geometry.cargo_density = %g kg/m3): it will list or capsize after the "
+                    "damage (docs/ship.md)", gm_d_fluid, m.gm_fluid, m.free_surface,
+                    g.fill, g.cargo_density)
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
     wm = g.wavemaker
@@ -526,12 +550,13 @@ def setup(cfg: CaseConfig) -> CaseSetup:
               g.tank_height + g.depth)
     k = wavenumber(omega, g.depth, cfg.fluid.gravity)
     hs = hydrostatics(hull, rho0, cfg.fluid.gravity)
+    gm_damaged = damaged_gm(cfg, m)
     attrs = dict(depth=g.depth, tank_length=g.tank_length, ship_x=g.ship_x,
                  breadth=hull.breadth, hull_depth=hull.depth, draught=hull.draught,
                  bilge_radius=hull.bilge_radius, plating=hull.plating, kg=hull.kg,
                  gyradius=hull.gyradius, mass_properties=hull.mass_properties,
                  gm=m.gm, gm_fluid=m.gm_fluid, free_surface=m.free_surface, kb=hs["kb"],
-                 bm=hs["bm"],
+                 bm=hs["bm"], gm_damaged=gm_damaged[0], gm_damaged_fluid=gm_damaged[1],
                  opening=g.damage.opening if g.damaged_cabins else 0.0,
                  side=g.damage.side, fill=g.fill, cargo_density=g.cargo_density,
                  damage_time=g.damage.time_periods * period, wave_period=period,

@@ -13,6 +13,7 @@ from sph.bodies.hull import (
     cabin_area,
     flooded_draught,
     flooded_equilibrium,
+    flooded_metacentre,
     hydrostatics,
     mid_shape,
     opening_aperture,
@@ -55,6 +56,49 @@ def test_box_hydrostatics_closed_form():
     expect = (b * d - w * (b - 2 * t) * t) / (b - w * (b - 2 * t))
     assert flooded_draught(box, w) == pytest.approx(expect, rel=1e-6)
     assert flooded_draught(box, 1.0) == math.inf  # every cabin open: it sinks
+
+
+def test_flooded_metacentre_box_closed_form():
+    """Lost buoyancy, box section: the damaged cabins keep their plating's buoyancy
+    (B d' - w (B - 2t)(d' - t)) and waterplane (B^3 - w (B - 2t)^3) / 12, the displacement
+    stays B d."""
+    box = dataclasses.replace(HULL, bilge_radius=0.0)
+    b, d, t, w = box.breadth, box.draught, box.plating, 1 / 3
+    dd = flooded_draught(box, w)
+    kb = (b * dd * dd / 2 - w * (b - 2 * t) * (dd - t) * (dd + t) / 2) / (b * d)
+    bm = (b**3 - w * (b - 2 * t) ** 3) / 12 / (b * d)
+    got = flooded_metacentre(box, w)
+    assert got["draught"] == pytest.approx(dd, rel=1e-9)
+    assert got["kb"] == pytest.approx(kb, rel=1e-6)
+    assert got["bm"] == pytest.approx(bm, rel=1e-6)
+    assert got["km"] == pytest.approx(kb + bm, rel=1e-6)
+    assert flooded_metacentre(box, 1.0)["km"] == math.inf
+
+
+def test_damaged_stability_of_the_table_i_loadings(caplog):
+    """Table I's loadings once the middle cabin is open to the sea (lost buoyancy, upright):
+    the empty ship keeps GM 3.20 m (3.88 intact); water at 25 and 50 % leaves it -0.11 m
+    after the cargo's free-surface correction of 3.31 m (intact +0.57 m), so the ship lists
+    or capsizes after the damage (the coarse sweep: a list of 23 degree at 25 %, capsized at
+    50 %, docs/findings.md), and the case warns before any run; the 850 kg/m3 oil at 75 %
+    leaves +0.39 m."""
+    from sph.cases.ship import damaged_gm, masses
+
+    def gms(*over):
+        cfg = builtin("damaged_ship", list(over))
+        return damaged_gm(cfg, masses(cfg))
+
+    assert gms()[1] == pytest.approx(3.197, abs=0.005)
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        caplog.clear()
+        assert gms("geometry.fill=0.5", "geometry.cargo_density=1000")[1] == pytest.approx(
+            -0.112, abs=0.005)
+        assert "will list or capsize" in caplog.text and "geometry.fill = 0.5" in caplog.text
+        caplog.clear()
+        assert gms("geometry.fill=0.75", "geometry.cargo_density=850")[1] == pytest.approx(
+            0.385, abs=0.005)
+        assert "capsize" not in caplog.text
+    assert math.isnan(gms("geometry.damage.opening=0")[0])
 
 
 def test_flooded_equilibrium_in_finite_tanks_box_closed_form():
