@@ -748,6 +748,24 @@ FINDINGS: tuple[FindingSpec, ...] = (
 )
 
 
+#: a ship whose roll passes this many degrees has capsized: the findings that compare it
+#: with other cases cannot be judged
+CAPSIZE_DEGREES = 90.0
+
+
+def capsize_note(s: _Sweep, case: str) -> str:
+    """Empty, or why ``case``'s findings cannot be judged: its roll passed
+    :data:`CAPSIZE_DEGREES` (the time it first did, in wave periods, and its largest roll)."""
+    roll = s.series(case, "roll")
+    over = np.nonzero(np.abs(roll) >= CAPSIZE_DEGREES)[0]
+    if not len(over):
+        return ""
+    label = case_label(s.cases[case])
+    return (f"{case} ({label}) capsized: its roll passed "
+            f"{CAPSIZE_DEGREES:g} degree from t/T = {s.t[over[0]] / s.period:.3g} "
+            f"(largest {np.abs(roll).max():.0f} degree)")
+
+
 def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
     """Measure every finding of :data:`FINDINGS` on the gathered dataset ``ds``.
 
@@ -770,6 +788,7 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")
+    capsized = {c: note for c in s.cases if (note := capsize_note(s, c))}
     out = []
     for f in FINDINGS:
         cases = f.cases(sel)
@@ -778,6 +797,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
                                None))
         elif f.steady and not s.steady_covered:
             out.append(Finding(f.id, f.statement, f.paper, steady_note, None))
+        elif any(c in capsized for c in cases):
+            out.append(Finding(f.id, f.statement, f.paper, "; ".join(
+                capsized[c] for c in cases if c in capsized), None))
         else:
             values, measured = f.measure(s, cases)
             out.append(_judged(f.id, f.statement, f.paper, measured, f.test(values, s),

@@ -163,6 +163,26 @@ def test_short_runs_are_not_determinable():
     assert verdicts["F2"] is True and verdicts["F5"] is True
 
 
+def test_a_capsized_case_makes_its_findings_not_determinable():
+    """A case whose roll passes 90 degree (Table I's 50 % water cargo at coarse:
+    docs/findings.md) cannot be compared: every finding that uses it is not determinable,
+    naming the case and when it went over; the others are judged as before."""
+    p = _paper_like()
+    ds = _sweep(p)
+    roll = ds["roll"].values
+    k = list(ds["case"].values).index("case7")
+    t = ds["time"].values
+    roll[k] -= np.clip((t - 8 * T) * 30.0, 0.0, 175.0)  # over from about 8.5 T
+    ds["roll"] = (("case", "time"), roll)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    for fid in ("F8", "F10", "F11", "F16", "F17"):  # the fill group holds case7
+        assert out[fid].holds is None, (fid, out[fid].measured)
+        assert "case7" in out[fid].measured and "capsized" in out[fid].measured
+    assert "8.48" in out["F8"].measured and "largest 178 degree" in out["F8"].measured
+    assert out["F18"].holds is True  # 75 % only
+    assert all(out[fid].holds is True for fid in ("F1", "F2", "F5", "F6", "F7"))
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],
