@@ -762,7 +762,7 @@ def capsize_note(s: _Sweep, case: str) -> str:
         return ""
     label = case_label(s.cases[case])
     return (f"{case} ({label}) capsized: its roll passed "
-            f"{CAPSIZE_DEGREES:g} degree from t/T = {s.t[over[0]] / s.period:.3g} "
+            f"{CAPSIZE_DEGREES:g} degree at t/T = {s.t[over[0]] / s.period:.3g} "
             f"(largest {np.abs(roll).max():.0f} degree)")
 
 
