@@ -36,7 +36,7 @@ cargo's mass as :math:`M_a` it fed the compression modes of the cargo against th
 walls (which push and never pull) rectified them, and the upright ship rose 0.12 m (50 %)
 and 0.25 m (75 %) above its draught in still water. The extrapolated acceleration leaves a
 term of order :math:`(\omega\Delta t)^2` instead, and the same modes decay
-(``tests/unit/test_rigid.py`` shows both on a body, its cargo on a spring and a lagged
+(``tests/physics/test_bodies.py`` shows both on a body, its cargo on a spring and a lagged
 added mass; docs/ship.md the ship runs).
 
 The angle ``theta`` is counter-clockwise in the x-z plane; the output ``roll`` is
