@@ -68,20 +68,20 @@ def _cargo_mode(first_order: bool, wdt: float, steps=6000, dt=1.6e-3, mass=1.0, 
     (Soding's form). Returns the mode's largest amplitude over the first and the last 500
     steps."""
     k = (wdt / dt) ** 2 / (1.0 / mass + 1.0 / cargo)
-    body = RigidBody(mass, mass, (0.0, 0.0), DofConfig(sway=False, roll=False), 0.0,
-                     added_mass=(0.0, cargo, 0.0))
-    zc, vc, vc_old = 0.01, 0.0, 0.0  # the cargo displaced by 1 cm: the mode excited
+    heave = DofConfig(sway=False, roll=False)
+    body = RigidBody(mass, mass, (0.0, 0.0), heave, 0.0, added_mass=(0.0, cargo, 0.0))
+    liquid = RigidBody(cargo, cargo, (0.0, 0.01), heave, 0.0)  # displaced by 1 cm: excited
     amp = []
     for n in range(steps):
         if first_order:
             body.a_prev[:] = body.a
-        body.set_forces(0.0, k * (zc - body.q[1]) - lagged * body.a[1], 0.0)
-        ac = -k * (zc - body.q[1]) / cargo
+        stretch = liquid.q[1] - body.q[1]
+        body.set_forces(0.0, k * stretch - lagged * body.a[1], 0.0)
+        liquid.set_forces(0.0, -k * stretch, 0.0)
         euler = n % 40 == 0
-        zc += dt * vc + 0.5 * dt * dt * ac
-        vc, vc_old = (vc if euler else vc_old) + (1.0 if euler else 2.0) * dt * ac, vc
+        liquid.update(dt, euler)
         body.update(dt, euler)
-        amp.append(abs(zc - body.q[1]))
+        amp.append(abs(liquid.q[1] - body.q[1]))
     return max(amp[:500]), max(amp[-500:])
 
 
