@@ -181,6 +181,12 @@ def check(cfg: CaseConfig) -> None:
         # half a breadth of open water between the hull and the absorbing zone: the zone
         # damps the flow, and a drifting ship must not push its own flow into it
         hi = min(hi, g.absorber.start - 2.0 * half)
+        if g.absorber.mirrored and g.absorber.start < 0.5 * g.tank_length:
+            raise ConfigError("geometry.absorber.start", f"must be at least the tank's middle "
+                              f"({0.5 * g.tank_length:g} m) when mirrored is true, so that "
+                              f"the two zones do not overlap; got {g.absorber.start:g}")
+        if g.absorber.mirrored:
+            lo = max(lo, g.tank_length - g.absorber.start + 2.0 * half)
     if not lo <= g.ship_x <= hi:
         raise ConfigError("geometry.ship_x", f"must be in [{lo:g}, {hi:g}] m so that the "
                           f"ship lies inside the tank, clear of the flap and at least half "
@@ -220,6 +226,12 @@ def check(cfg: CaseConfig) -> None:
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
     wm = g.wavemaker
+    if g.absorber.enabled and g.absorber.mirrored and (wm.file is not None or wm.amplitude
+                                                       or wm.theta0):
+        raise ConfigError("geometry.absorber.mirrored", "must be false while the wavemaker "
+                          "runs (its mirror image would damp the wave at the flap); a zone at "
+                          "each end is for a still tank: geometry.wavemaker.theta0 = 0, no "
+                          "amplitude or file")
     if g.absorber.enabled and wm.file is None and (wm.amplitude or wm.theta0):
         length = 2.0 * math.pi / wavenumber(wm.omega, g.depth, cfg.fluid.gravity)
         if g.absorber.length < 0.95 * length:
@@ -571,7 +583,8 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
                        refinement=hull_boxes(g, dx, pitch, n_seg),
                        diagnostics=diagnostics, attrs=attrs,
-                       absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch),
+                       absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch,
+                                               middle=0.5 * g.tank_length),
                        still_level=g.depth, extra_probes=extra, opening=opening,
                        probe_comp=0, force_scale=force_scale)
     return setup_

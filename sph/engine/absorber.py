@@ -37,8 +37,13 @@ In a current tank (:mod:`sph.engine.openbc`) the zone damps towards the stream,
 :math:`\mathbf{v}_0 = (U, 0)`: it takes the waves out of the flow and leaves the stream;
 the one-sided form then damps the particles with :math:`v_x < U`.
 
-The zone travels to numba as a float array ``[mode, x0, l, c, dx, pitch, U]`` (mode 0 = no
-zone, 1 = one-sided, 2 = two-sided).
+``mirrored`` adds the zone's mirror image about the middle of the tank: a zone at each end,
+for a body released in the middle of a still tank (a free decay), whose radiated waves would
+otherwise come back from the end walls and beat with its motion. Only a case that knows its
+tank's middle and has no wavemaker running offers it (:mod:`sph.cases.ship`).
+
+The zone travels to numba as a float array ``[mode, x0, l, c, dx, pitch, U, x_m]`` (mode 0 =
+no zone, 1 = one-sided, 2 = two-sided; x_m > 0: the zone is mirrored about x = x_m).
 """
 
 from __future__ import annotations
@@ -60,7 +65,8 @@ AB_SPEED = 3  #: c of the profile times the strength (m/s)
 AB_DX = 4  #: particle spacing (m)
 AB_PITCH = 5  #: the zone repeats every pitch metres along x (0: once)
 AB_STREAM = 6  #: reference velocity along x the zone damps towards (m/s; 0: still water)
-AB_SIZE = 7
+AB_MIRROR = 7  #: x about which the zone is mirrored (m; 0: no mirror image)
+AB_SIZE = 8
 
 
 @dataclass(frozen=True)
@@ -78,6 +84,9 @@ class AbsorberConfig:
                      "those with vx < 0")
     strength: float = spec(1.0, lo=0.0, lo_open=True, hi=100.0,
                            doc="multiplies c (speed, or the default phase speed)")
+    mirrored: bool = spec(False, doc="also damp the zone's mirror image about the tank's "
+                          "middle (a zone at each end: free decay in a still tank; ship "
+                          "cases without a wave only)")
 
     def check(self, key):
         if self.enabled:
@@ -88,14 +97,24 @@ class AbsorberConfig:
 
 
 def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
-                    pitch: float = 0.0, stream: float = 0.0) -> np.ndarray:
+                    pitch: float = 0.0, stream: float = 0.0,
+                    middle: float | None = None) -> np.ndarray:
     """Pack the zone for the numba update (``speed`` used when ``cfg.speed`` is None).
 
     ``pitch`` > 0 repeats the zone every ``pitch`` metres along x: the tanks of the strip
     segments of a ship lie side by side at that spacing (:mod:`sph.cases.ship`).
-    ``stream``: the velocity along x the zone damps towards (a current tank's U)."""
+    ``stream``: the velocity along x the zone damps towards (a current tank's U).
+    ``middle``: the x of the tank's middle, about which a ``mirrored`` zone is mirrored; a
+    case that passes none does not offer ``mirrored``."""
     if cfg is None or not cfg.enabled:
         return np.zeros(AB_SIZE)
+    if cfg.mirrored and middle is None:
+        raise ConfigError("geometry.absorber.mirrored", "must be false in this case (a zone "
+                          "at each end is offered for a ship in a still tank only)")
+    if cfg.mirrored and not 0.0 < middle <= cfg.start:
+        raise ConfigError("geometry.absorber.start", f"must be at least the tank's middle "
+                          f"({middle:g} m) when mirrored is true, so that the two zones do "
+                          f"not overlap; got {cfg.start:g}")
     c = (cfg.speed if cfg.speed is not None else speed) * cfg.strength
     ab = np.zeros(AB_SIZE)
     ab[AB_FORM] = FORMS[cfg.form]
@@ -105,6 +124,7 @@ def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
     ab[AB_DX] = dx
     ab[AB_PITCH] = pitch
     ab[AB_STREAM] = stream
+    ab[AB_MIRROR] = middle if cfg.mirrored else 0.0
     return ab
 
 
@@ -123,6 +143,8 @@ def sigma(x, vx, ab):
     stream (:data:`AB_STREAM`); 0 outside the zone."""
     if ab[AB_FORM] != 0.0 and ab[AB_PITCH] > 0.0:
         x -= ab[AB_PITCH] * np.floor(x / ab[AB_PITCH])
+    if ab[AB_MIRROR] > 0.0 and x < ab[AB_MIRROR]:
+        x, vx = 2.0 * ab[AB_MIRROR] - x, -vx  # position and velocity mirrored
     if ab[AB_FORM] == 0.0 or x <= ab[AB_START]:
         return 0.0
     if ab[AB_FORM] == 1.0 and vx >= 0.0:

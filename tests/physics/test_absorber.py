@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from sph.cases import builtin
-from sph.engine.absorber import AbsorberConfig, absorber_params, sigma
+from sph.engine.absorber import AB_MIRROR, AbsorberConfig, absorber_params, sigma
 from sph.engine.integrator import verlet_update
 from sph.schema import ConfigError
 
@@ -130,3 +130,55 @@ def test_damping_towards_a_stream_keeps_the_stream_and_damps_the_rest():
     one = absorber_params(AbsorberConfig(start=90.0, length=60.0, speed=10.0,
                                          form="one_sided"), speed=1.0, dx=DX, stream=u0)
     assert sigma(120.0, 0.3, one) == 0.0 and sigma(120.0, -0.3, one) > 0.0
+
+
+def test_mirrored_zone_damps_both_ends_alike():
+    """A mirrored zone (free decay in a still 150 m tank, zones over its last and first 30 m)
+    damps at x what the zone damps at 150 - x, in the one-sided form the flow towards the
+    middle at either end; the middle is left alone."""
+    for form in ("two_sided", "one_sided"):
+        cfg = AbsorberConfig(start=120.0, length=30.0, speed=10.0, form=form, mirrored=True)
+        ab = absorber_params(cfg, speed=1.0, dx=DX, middle=75.0)
+        for x in (121.0, 135.0, 149.8):
+            for v in (-0.5, 0.5):
+                assert sigma(150.0 - x, -v, ab) == pytest.approx(sigma(x, v, ab), rel=1e-12)
+        assert sigma(150.0 - 135.0, 0.5, ab) > 0.0  # towards the middle from the start end
+        assert sigma(60.0, -1.0, ab) == 0.0 and sigma(90.0, -1.0, ab) == 0.0
+    plain = absorber_params(AbsorberConfig(start=120.0, length=30.0, speed=10.0), 1.0, DX,
+                            middle=75.0)
+    assert sigma(15.0, -1.0, plain) == 0.0 and sigma(135.0, -1.0, plain) > 0.0
+
+
+MIRRORED = ["numerics.dx=0.8", "geometry.absorber.enabled=true", "geometry.absorber.start=90",
+            "geometry.absorber.length=30", "geometry.absorber.mirrored=true"]
+
+
+def test_mirrored_zone_fits_a_still_decay_tank():
+    from sph.cases import setup
+
+    cfg = builtin("ship_decay", MIRRORED)
+    ab = setup(cfg).absorber
+    assert ab[AB_MIRROR] == pytest.approx(0.5 * cfg.geometry.tank_length)
+
+
+@pytest.mark.parametrize("overrides, key", [
+    # the flap's wave would be damped at the flap by the zone's mirror image
+    (["geometry.wavemaker.theta0=0.05"], "geometry.absorber.mirrored"),
+    # the two zones would overlap
+    (["geometry.absorber.start=50", "geometry.absorber.length=20"],
+     "geometry.absorber.start"),
+    # the ship inside the zone at the start end
+    (["geometry.ship_x=30"], "geometry.ship_x"),
+])
+def test_mirrored_zone_is_refused_where_it_does_not_fit(overrides, key):
+    from sph.cases import setup
+
+    with pytest.raises(ConfigError) as err:
+        setup(builtin("ship_decay", MIRRORED + overrides))
+    assert err.value.key == key
+
+
+def test_mirrored_zone_is_refused_in_cases_without_a_middle():
+    with pytest.raises(ConfigError) as err:
+        absorber_params(AbsorberConfig(start=90.0, length=60.0, mirrored=True), 1.0, DX)
+    assert err.value.key == "geometry.absorber.mirrored"
