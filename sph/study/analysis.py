@@ -102,6 +102,51 @@ def oscillation_frequency(t, y, t_start: float = 0.0) -> tuple[float, float]:
     return abs(float(popt[2])), float(popt[3])
 
 
+def spectral_peak(t, y, band: tuple[float, float], pad: int = 16) -> float:
+    """Angular frequency (rad/s) of the largest peak of the spectrum of ``y`` (uniformly
+    sampled at ``t``, mean removed, Hann window, zero-padded ``pad`` times) within ``band``
+    (rad/s). For a damped mode that a multi-mode fit cannot hold apart from a stronger one:
+    its peak stays where the mode is while its width grows with its damping."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    v = (y - y.mean()) * np.hanning(y.size)
+    n = pad * y.size
+    spec = np.abs(np.fft.rfft(v, n))
+    omega = 2.0 * math.pi * np.fft.rfftfreq(n, (t[-1] - t[0]) / (t.size - 1))
+    sel = (omega >= band[0]) & (omega <= band[1])
+    if not sel.any():
+        raise ValueError(f"no frequency of the record in {band} rad/s")
+    return float(omega[sel][np.argmax(spec[sel])])
+
+
+def decay_modes(t, y, split: float) -> dict:
+    """The two modes of a free decay that a frequency ``split`` (rad/s) holds apart, such as
+    a loaded ship's roll (a slow mode on the metacentric height that the cargo's free surface
+    leaves, and a fast one of ship and cargo moving against each other, above the cargo's
+    sloshing frequency ``split``). The slow mode, which carries most of the motion, by a
+    damped fit :math:`c + a e^{-\\zeta\\omega t}\\cos(\\omega t + \\varphi)` below ``split``;
+    the fast one as the peak of the spectrum of what that fit leaves, between ``split`` and
+    three times it (a strongly damped mode that a two-mode fit cannot hold apart; the slow
+    mode's own spectrum would bury its peak). Returns ``low`` (omega, damping ratio) and
+    ``high`` (omega)."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    t = t - t[0]
+
+    def mode(tt, c, a, w, z, p):
+        return c + a * np.exp(-z * w * tt) * np.cos(w * tt + p)
+
+    w0 = spectral_peak(t, y, (0.0, split))
+    p = multistart_fit(mode, t, y, [[float(y.mean()), 0.5 * float(np.ptp(y)), w0, 0.1, ph]
+                                    for ph in np.linspace(0.0, 2.0 * math.pi, 6, endpoint=False)],
+                       bounds=([-np.inf, 0.0, 0.0, 0.0, -np.inf],
+                               [np.inf, np.inf, split, 1.0, np.inf]), maxfev=20000)
+    if p is None:
+        raise ValueError("no damped mode fits the record below the split")
+    return dict(low=(float(p[2]), float(p[3])),
+                high=spectral_peak(t, y - mode(t, *p), (split, 3.0 * split)))
+
+
 def harmonic_fit(t, y, omega: float) -> tuple[complex, float]:
     """Least-squares fit ``y = c + Re(Z exp(i omega t))``; returns the complex amplitude Z
     and the mean c."""
