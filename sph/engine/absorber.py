@@ -104,17 +104,14 @@ def absorber_params(cfg: AbsorberConfig | None, speed: float, dx: float,
     ``pitch`` > 0 repeats the zone every ``pitch`` metres along x: the tanks of the strip
     segments of a ship lie side by side at that spacing (:mod:`sph.cases.ship`).
     ``stream``: the velocity along x the zone damps towards (a current tank's U).
-    ``middle``: the x of the tank's middle, about which a ``mirrored`` zone is mirrored; a
-    case that passes none does not offer ``mirrored``."""
+    ``middle``: the x of the tank's middle, about which a ``mirrored`` zone is mirrored (the
+    case checks that the zone starts beyond it); a case that passes none does not offer
+    ``mirrored``."""
     if cfg is None or not cfg.enabled:
         return np.zeros(AB_SIZE)
     if cfg.mirrored and middle is None:
         raise ConfigError("geometry.absorber.mirrored", "must be false in this case (a zone "
                           "at each end is offered for a ship in a still tank only)")
-    if cfg.mirrored and not 0.0 < middle <= cfg.start:
-        raise ConfigError("geometry.absorber.start", f"must be at least the tank's middle "
-                          f"({middle:g} m) when mirrored is true, so that the two zones do "
-                          f"not overlap; got {cfg.start:g}")
     c = (cfg.speed if cfg.speed is not None else speed) * cfg.strength
     ab = np.zeros(AB_SIZE)
     ab[AB_FORM] = FORMS[cfg.form]
