@@ -255,7 +255,7 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
 def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
     """Free roll decay of the loaded intact ship (Table I's loading: cargo in two cabins of
     three, water at 25 and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the
-    cargo's surface parallel to the deck) in the open decay tank, 36 s (5-9 min each on one
+    cargo's surface parallel to the deck) in the open decay tank, 36 s (about 4 min each on one
     core).
 
     The coupled roll-sloshing model (:mod:`sph.bodies.cargo`) gives two modes that share the
