@@ -181,11 +181,12 @@ def check(cfg: CaseConfig) -> None:
         # half a breadth of open water between the hull and the absorbing zone: the zone
         # damps the flow, and a drifting ship must not push its own flow into it
         hi = min(hi, g.absorber.start - 2.0 * half)
-        if g.absorber.mirrored and g.absorber.start < 0.5 * g.tank_length:
-            raise ConfigError("geometry.absorber.start", f"must be at least the tank's middle "
-                              f"({0.5 * g.tank_length:g} m) when mirrored is true, so that "
-                              f"the two zones do not overlap; got {g.absorber.start:g}")
         if g.absorber.mirrored:
+            if g.absorber.start < 0.5 * g.tank_length:
+                raise ConfigError("geometry.absorber.start", f"must be at least the tank's "
+                                  f"middle ({0.5 * g.tank_length:g} m) when mirrored is true, "
+                                  f"so that the two zones do not overlap; got "
+                                  f"{g.absorber.start:g}")
             lo = max(lo, g.tank_length - g.absorber.start + 2.0 * half)
     if not lo <= g.ship_x <= hi:
         raise ConfigError("geometry.ship_x", f"must be in [{lo:g}, {hi:g}] m so that the "
