@@ -76,12 +76,12 @@ def test_flooded_metacentre_box_closed_form():
 
 
 def test_damaged_stability_of_the_table_i_loadings(caplog):
-    """Table I's loadings once the middle cabin is open to the sea (lost buoyancy, upright):
+    """The loaded ship once the middle cabin is open to the sea (lost buoyancy, upright):
     the empty ship keeps GM 3.20 m (3.88 intact); water at 25 and 50 % leaves it -0.11 m
     after the cargo's free-surface correction of 3.31 m (intact +0.57 m), so the ship lists
-    or capsizes after the damage (the coarse sweep: a list of 23 degree at 25 %, capsized at
-    50 %, docs/findings.md), and the case warns before any run; the 850 kg/m3 oil at 75 %
-    leaves +0.39 m."""
+    or capsizes after the damage (a coarse sweep with water: a list of 23 degree at 25 %,
+    capsized at 50 %, docs/ship.md), and the case warns before any run; Table I's 850 kg/m3
+    oil leaves +0.39 m at every fill."""
     from sph.cases.ship import damaged_gm, masses
 
     def gms(*over):

@@ -187,7 +187,8 @@ def test_flooded_ship_settles_at_the_lost_buoyancy_draught():
         pytest.xfail(f"mean roll {roll:.2f} degree over the last 20 s, not upright")
 
 
-#: the loaded intact ship of Table I: two cabins in three with cargo, the middle one empty
+#: the loaded intact ship: two cabins in three with cargo, the middle one empty; water at 25 and
+#: 50 %, where the low mode rests on the smallest GM_eff, and Table I's oil at 75 %
 LOADED = {0.25: 1000.0, 0.5: 1000.0, 0.75: 850.0}
 #: the small tank of the loaded decay runs
 DECAY_TANK = ["numerics.dx=0.8", "geometry.depth=15", "geometry.tank_length=60",
@@ -253,8 +254,8 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
 @pytest.mark.slow
 @pytest.mark.parametrize("fill", sorted(LOADED))
 def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
-    """Free roll decay of the loaded intact ship (Table I's loading: cargo in two cabins of
-    three, water at 25 and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the
+    """Free roll decay of the loaded intact ship (cargo in two cabins of three: water at 25
+    and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the
     cargo's surface parallel to the deck) in the open decay tank, 36 s (about 4 min each on one
     core).
 
