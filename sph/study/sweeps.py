@@ -48,6 +48,7 @@ targets and their runs are the table :data:`sph.study.validation.TARGETS`.
 from __future__ import annotations
 
 import copy
+import hashlib
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -585,25 +586,41 @@ def check_case_document(doc: Mapping, where: str):
                           str(exc).split(": ", 1)[-1] if exc.key else str(exc)) from None
 
 
-def check_documents(ship: Mapping[str, Mapping], validation: Mapping[str, Mapping]) -> None:
+def configuration_digest(cfg) -> str:
+    """A short digest of a run's whole configuration, every default of its built-in case
+    filled in (:meth:`~sph.engine.config.CaseConfig.to_yaml`). The workflow gives it to the
+    rules that write case files as a parameter: a case file names only what the sweep sets,
+    so without it a changed default of a built-in case (an update of the package) would
+    leave the runs made with the old one standing."""
+    return hashlib.sha256(cfg.to_yaml().encode()).hexdigest()[:16]
+
+
+def check_documents(ship: Mapping[str, Mapping],
+                    validation: Mapping[str, Mapping]) -> dict[str, dict[str, str]]:
     """Build the case file of every run of a sweep with the engine's checks, before any job
     starts: ``ship`` maps each case id to its overrides (:func:`ship_overrides`),
     ``validation`` is :func:`validation_runs`. Raises the first :class:`ConfigError`, naming
     the run and the key; the ship's log messages about resolution are left to the runs' own
-    logs."""
+    logs. Returns the :func:`configuration_digest` of every run: ``{"ship": {case id:
+    digest}, "validation": {"target/run": digest}}``."""
     import logging
 
     quiet = logging.getLogger("sph")
     level = quiet.level
     quiet.setLevel(logging.ERROR)
+    digests: dict[str, dict[str, str]] = {"ship": {}, "validation": {}}
     try:
         for cid, over in ship.items():
-            check_case_document(case_document("damaged_ship", over), f"case {cid!r}")
+            cfg = check_case_document(case_document("damaged_ship", over), f"case {cid!r}")
+            digests["ship"][cid] = configuration_digest(cfg)
         for target, runs in validation.items():
             for run, (case, over) in runs.items():
-                check_case_document(case_document(case, over), f"validation {target}/{run}")
+                cfg = check_case_document(case_document(case, over),
+                                          f"validation {target}/{run}")
+                digests["validation"][f"{target}/{run}"] = configuration_digest(cfg)
     finally:
         quiet.setLevel(level)
+    return digests
 
 
 def _wave_period(overrides: Mapping[str, Any]) -> float:

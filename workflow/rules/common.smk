@@ -43,7 +43,9 @@ VALIDATION = study.validation_runs(SWEEP_CFG, DATA_DIR)
 
 try:
     # every run's case file built with the engine's checks (sph.study.sweeps.check_documents)
-    study.check_documents(SHIP_OVERRIDES, VALIDATION)
+    # with the digest of each run's whole configuration (the built-in case's defaults filled
+    # in): a rule parameter, so that a changed default reruns the runs it changes
+    DIGESTS = study.check_documents(SHIP_OVERRIDES, VALIDATION)
 except ConfigError as exc:
     raise WorkflowError(f"invalid sweep configuration: {exc}") from None
 
@@ -125,6 +127,10 @@ def ship_document(wildcards):
     return study.case_document("damaged_ship", SHIP_OVERRIDES[wildcards.case])
 
 
+def ship_digest(wildcards):
+    return DIGESTS["ship"][wildcards.case]
+
+
 #: The waves of the sweep's ship runs that get a wavemaker calibration: wave name -> the
 #: first case with that wave (sph.study.sweeps.wave_key; none in still water or with
 #: calibrate_wavemaker: false).
@@ -142,6 +148,10 @@ def calibration_document(wildcards):
                                SHIP_OVERRIDES[CALIBRATED_WAVES[wildcards.wave]])
 
 
+def calibration_digest(wildcards):
+    return DIGESTS["ship"][CALIBRATED_WAVES[wildcards.wave]]
+
+
 def calibration_of(wildcards):
     """The calibration a ship case file takes its flap angle from ([] if none)."""
     key = study.wave_key(SHIP_OVERRIDES[wildcards.case])
@@ -153,6 +163,10 @@ def calibration_of(wildcards):
 def validation_document(wildcards):
     case, over = VALIDATION[wildcards.target][wildcards.run]
     return study.case_document(case, over)
+
+
+def validation_digest(wildcards):
+    return DIGESTS["validation"][f"{wildcards.target}/{wildcards.run}"]
 
 
 #: The order in which the engine runs start, longest first, so that the last minutes of a

@@ -22,6 +22,7 @@ rule calibrate_wavemaker:
         "results/{sweep}/calibration/{wave}.json",
     params:
         document=calibration_document,
+        configuration=calibration_digest,
     conda:
         "../envs/sph.yaml"
     log:
@@ -41,6 +42,7 @@ rule case_file:
         "results/{sweep}/cases/{case}.yaml",
     params:
         document=ship_document,
+        configuration=ship_digest,
     conda:
         "../envs/sph.yaml"
     log:
@@ -73,6 +75,7 @@ rule validation_case_file:
         "results/validation/{preset}/{target}/{run}.yaml",
     params:
         document=validation_document,
+        configuration=validation_digest,
     conda:
         "../envs/sph.yaml"
     log:
