@@ -532,3 +532,23 @@ def test_a_ship_case_warns_of_a_zone_shorter_than_its_wave(caplog):
         builtin("damaged_ship", ["geometry.wavemaker.omega=0.6", *tank])
         builtin("damaged_ship")
     assert "absorbing zone" not in caplog.text
+
+
+def test_configuration_digest_follows_the_whole_configuration():
+    """The digest the workflow's case-file rules carry is of the configuration the engine
+    builds, every default filled in: a case file that states a default explicitly has the
+    digest of one that leaves it out, one that changes it another; check_documents returns
+    one per run of the sweep."""
+    s = _load()
+    over = study.ship_overrides(s["cases"][2], s)
+
+    def digest(extra):
+        doc = study.case_document("damaged_ship", {**over, **extra})
+        return study.configuration_digest(study.check_case_document(doc, "case3"))
+
+    ramp = study.check_case_document(study.case_document("damaged_ship", over), "case3") \
+        .geometry.wavemaker.ramp_time
+    assert digest({}) == digest({"geometry.wavemaker.ramp_time": ramp})
+    assert digest({}) != digest({"geometry.wavemaker.ramp_time": 0.0})
+    digests = study.check_documents({"case3": over}, {})
+    assert digests == {"ship": {"case3": digest({})}, "validation": {}}
