@@ -145,8 +145,9 @@ def _cargo_speed_through_the_start(overrides, t_end=2.0):
 
 @pytest.mark.parametrize("fill", [0.25, 0.5, 0.75])
 def test_loaded_ship_cargo_stays_calm_through_the_flap_start(fill):
-    """Table I's oil cargo in the paper's wave tank over the first 2 s (dx = 0.8 m, the flap
-    angle calibrated for Table I at this spacing, 0.060 rad): the ship meets only the start
+    """Table I's oil cargo in the paper's wave tank over the first 2 s (dx = 0.8 m, flap
+    angle 0.060 rad: Table I's calibration at this spacing with the flap started at full
+    speed, 0.058 rad with the ramp): the ship meets only the start
     of the wave (roll under 0.3 degree), so the cargo moves at a few tenths of a metre per
     second (0.21-0.23 m/s measured, the flap ramped over half a period). With the flap
     started at full speed (``ramp_time`` 0) a pressure pulse of rho c0 v, about 3 bar,
@@ -287,9 +288,8 @@ def loaded_decay_modes(ds, fill, density, t_fit=30.0):
 @pytest.mark.parametrize("fill", sorted(LOADED))
 def test_loaded_roll_decay_against_the_roll_sloshing_estimate(fill):
     """Free roll decay of the loaded intact ship (cargo in two cabins of three: water at 25
-    and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the
-    cargo's surface parallel to the deck) in the open decay tank, 36 s (about 4 min each on one
-    core).
+    and 50 %, an 850 kg/m3 oil at 75 %; released at 5 deg with the cargo's surface parallel
+    to the deck) in the open decay tank, 36 s (about 4 min each on one core).
 
     The coupled roll-sloshing model (:mod:`sph.bodies.cargo`) gives two modes that share the
     roll: one far below the cargo's first sloshing frequency, on the metacentric height the
