@@ -36,9 +36,11 @@ mass, the energies, the probes and the forces on bodies (the particle field ``bo
 ghost is :data:`sph.engine.particles.GHOST`).
 
 **Families** (:func:`spawn`, :func:`assign`): a particle of level ``l`` inside the
-buffered box of a finer level gets four children of a quarter of its mass at
-:math:`\pm\Delta x_l/4` along both axes (the square pattern of Feldman & Bonet 2007;
-Barcarolo et al. 2014), with its velocity and its density corrected hydrostatically; it
+buffered box of a finer level gets four children of a quarter of its mass tiling its cell
+(the square pattern of Feldman & Bonet 2007; Barcarolo et al. 2014): at
+:math:`\pm\Delta x_l/4` across and a quarter of its cell's height, its volume over
+:math:`\Delta x_l`, up and down (:func:`_children`), with its velocity and its density
+corrected hydrostatically; it
 keeps existing, and its children keep its id in the field ``parent``. Its children are
 removed when it leaves that buffered box (and theirs with them). A level-0 particle and its
 descendants are one family, and the family is active at one level only: the level of the
@@ -160,13 +162,19 @@ def _children(parts: Particles, sel: np.ndarray, dx: float, grad_rho
     """Float and integer columns of the four children of each particle ``sel``."""
     f = np.repeat(parts.f[:, sel], 4, axis=1)
     i = np.repeat(parts.i[:, sel], 4, axis=1)
-    quarter = 0.25 * dx * np.repeat(parts.hs[sel], 4)
-    ox = np.tile([-1.0, 1.0, -1.0, 1.0], len(sel)) * quarter
-    oz = np.tile([-1.0, -1.0, 1.0, 1.0], len(sel)) * quarter
+    spacing = dx * np.repeat(parts.hs[sel], 4)
+    fluid = i[_II["kind"]] == FLUID
+    # the children tile their mother's cell: a level's spacing wide (the cases' lattices are
+    # columns of it) and as high as her volume makes it, since a case that fits whole cells
+    # between a floor and a level stretches them vertically (a 25 % cargo at dx = 0.8 m:
+    # 3 cells of 0.708 m); children at +-spacing/4 left layers 0.54 fine spacings apart
+    # where two mothers met, and the cargo rang until it burst (docs/model.md)
+    height = np.where(fluid, np.repeat(parts.m[sel] / parts.rho[sel], 4) / spacing, spacing)
+    ox = np.tile([-1.0, 1.0, -1.0, 1.0], len(sel)) * 0.25 * spacing
+    oz = np.tile([-1.0, -1.0, 1.0, 1.0], len(sel)) * 0.25 * height
     for name, off in (("x", ox), ("z", oz), ("bx", ox), ("bz", oz), ("x_sort", ox),
                       ("z_sort", oz), ("x_inner", ox), ("z_inner", oz)):
         f[_FI[name]] += off
-    fluid = i[_II["kind"]] == FLUID
     for name in ("rho", "rho_old"):
         f[_FI[name]] += np.where(fluid, grad_rho[0] * ox + grad_rho[1] * oz, 0.0)
     f[_FI["m"]] *= 0.25

@@ -115,6 +115,26 @@ def test_children_make_the_fine_lattice_and_the_active_mass_is_kept():
         assert math.fsum(q.m[active_fluid(q)]) == before[0]
 
 
+def test_children_tile_a_stretched_cell():
+    """A case that fits whole cells between a floor and a level stretches them vertically
+    (a 25 % cargo at dx = 0.8 m: cells 0.708 m high). The children of a column of cells dx
+    wide and 1.2 dx high are the fine lattice of dx / 2 by 0.6 dx, evenly spaced across
+    their mothers' edges; at +-dx / 4 they made layers 0.2 dx apart where two mothers met
+    (0.1 dx of spacing and 0.35 dx of offset from the floor in the 25 % cargo)."""
+    p = _lattice(4, 5)
+    stretch = 1.2
+    p.z[:] *= stretch
+    p.m[:] *= stretch
+    q, _ = _refined(p, pack_boxes([_Box((-1.0, 1.0), (-1.0, 1.0), 1)]))
+    fine = levels(q.hs) == 1
+    fz = np.sort(np.unique(np.round(q.z[fine], 9)))
+    np.testing.assert_allclose(fz, (np.arange(10) + 0.5) * 0.5 * stretch * DX, rtol=1e-12)
+    fx = np.sort(np.unique(np.round(q.x[fine], 9)))
+    np.testing.assert_allclose(fx, (np.arange(8) + 0.5) * 0.5 * DX, rtol=1e-12)
+    # each child holds a quarter of its mother's mass over a quarter of her cell
+    np.testing.assert_allclose(q.m[fine] / q.rho[fine], 0.25 * stretch * DX * DX, rtol=1e-12)
+
+
 def test_children_keep_a_fluid_at_rest_hydrostatic():
     """A child's density is its parent's plus the hydrostatic gradient times its offset."""
     p = _lattice(4, 4)
