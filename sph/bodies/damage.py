@@ -55,8 +55,7 @@ class HullGuard:
     def apply(self, sim) -> None:
         p = sim.parts
         for op in self.params:
-            keep_sides(p.x, p.z, p.vx, p.vz, p.vx_old, p.vz_old, p.kind, p.body, p.comp, op,
-                       sim.kin)
+            keep_sides(p.x, p.z, p.vx, p.vz, p.vx_old, p.vz_old, p.kind, p.comp, op, sim.kin)
 
     def get_state(self) -> dict:
         return {}

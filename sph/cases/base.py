@@ -48,7 +48,9 @@ class CaseSetup:
         groups' entries in ``motions`` are the bodies themselves or their segment views.
     events : list
         Objects with ``apply(sim)`` called before every evaluation (e.g. a damage opening),
-        and ``get_state()``/``set_state()`` for checkpoints.
+        and again after a refinement has moved the ghosts (so ``apply`` must give the same
+        result when called twice at one time), and ``get_state()``/``set_state()`` for
+        checkpoints.
     extra_probes : dict
         Further surface probes (e.g. body-fixed): name -> ``(f(particles) -> height (m),
         reference height (m))``; appended to ``surface_height`` and ``probe_elevation``

@@ -49,7 +49,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.particles import FLUID, GHOST
+from sph.engine.particles import FLUID
 
 # slots of ``op`` (module docstring)
 OP_OPEN = 0
@@ -323,7 +323,7 @@ def in_opening_band(u, w, op):
 
 
 @njit(**JIT_PARALLEL)
-def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, body, comp, op, kin):
+def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, comp, op, kin):
     """Keep the fluid on its side of a thin hull; let it change side through an opening.
 
     A fluid particle of the hull's sea (``OP_SEA``) or cabin (``OP_CABIN``) within
@@ -341,12 +341,12 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, body, comp, op, kin):
       meets a sparse wall (at a convex bilge, beside the opening), a particle can be pressed
       through, and it must not cross.
 
-    A ghost of variable resolution (``body`` :data:`~sph.engine.particles.GHOST`) is left
-    alone: it carries no mass, and at each rebuild of the lists it is put at the centre of
-    mass of its active descendants (:mod:`sph.engine.refinement`), which where they part
-    round a bilge may lie across the plating. Put back on its side at every step, such a
-    ghost moved by a tenth of a metre between rebuilds and forced a rebuild at every step
-    (the refined Table I ship in waves: 8.6 steps per second, 68 without)."""
+    Ghosts of variable resolution are kept on their side too: one that turns active must
+    not find itself across the plating. The stepper applies the guard again after the
+    refinement has put the ghosts at their families' centres of mass (which, where a
+    family parts round a bilge, may lie across the plating) and before the lists are built
+    (:meth:`sph.engine.stepper.Stepper._neighbours`), so that between rebuilds a ghost is
+    not moved away from where the lists were built."""
     a = int(op[OP_SEA])
     b = int(op[OP_CABIN])
     g = int(op[OP_GROUP])
@@ -357,7 +357,7 @@ def keep_sides(x, z, vx, vz, vx_old, vz_old, kind, body, comp, op, kin):
     st = math.sin(kin[g, 2])
     for i in prange(x.shape[0]):
         ci = comp[i]
-        if kind[i] != FLUID or body[i] == GHOST or (ci != a and ci != b):
+        if kind[i] != FLUID or (ci != a and ci != b):
             continue
         rx = x[i] - kin[g, 0]
         rz = z[i] - kin[g, 1]

@@ -348,6 +348,11 @@ class Stepper:
         if self.variable:
             self._refine()
             p = self.parts
+            # the refinement put the ghosts at their families' centres of mass: the events
+            # act again (the hull guard puts one found across the plating back on its
+            # side), so that the lists are built at the places the particles keep
+            for event in self.setup.events:
+                event.apply(self)
         if self.open_boundary is not None:
             self.parts = self.open_boundary.rebuild(p)
             if self.parts is not p:

@@ -26,7 +26,6 @@ from sph.bodies.hull import (
 from sph.cases import build_case, builtin
 from sph.engine.kernels import kernel_params
 from sph.engine.opening import OP_SIZE, keep_sides, passable, sdf, wall_hidden
-from sph.engine.particles import GHOST
 from sph.engine.probes import surface_heights
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
@@ -263,32 +262,20 @@ def test_probe_next_to_a_wall_reads_the_level():
     assert not fluid_only > level - 0.5 * dx  # NaN or well below the level
 
 
-def _guard(op, kin, x, z, comp, vx=None, vz=None, body=None):
+def _guard(op, kin, x, z, comp, vx=None, vz=None):
     n = len(x)
-    body = np.full(n, -1, np.int32) if body is None else np.array(body, np.int32)
     x, z = np.array(x, float), np.array(z, float)
     vx = np.zeros(n) if vx is None else np.array(vx, float)
     vz = np.zeros(n) if vz is None else np.array(vz, float)
     vxo, vzo = vx.copy(), vz.copy()
     comp = np.array(comp, np.int32)
-    keep_sides(x, z, vx, vz, vxo, vzo, np.zeros(n, np.int32), body, comp, op, kin)
+    keep_sides(x, z, vx, vz, vxo, vzo, np.zeros(n, np.int32), comp, op, kin)
     return x, z, vx, vz, vxo, vzo, comp
 
 
 def _near(v):
     """Equal to ``v`` up to round-off in the mirror and keel-frame transforms."""
     return pytest.approx(v, abs=1e-9)
-
-
-def test_the_guard_leaves_ghosts_alone():
-    """A ghost of variable resolution on the wrong side of the plating stays where it is
-    (it carries no mass; its place is its descendants' centre of mass, set at each rebuild
-    of the lists); an active particle beside it is put back on its side."""
-    op, kin = _opening()
-    x, z, vx, vz, *_ = _guard(op, kin, x=[7.7, 7.7], z=[3.5, 4.5], comp=[0, 0],
-                              vx=[-1.0, -1.0], body=[GHOST, -1])
-    assert (x[0], z[0], vx[0]) == (7.7, 3.5, -1.0)
-    assert x[1] > mid_shape(HULL)[0] and vx[1] == _near(0.0)
 
 
 def test_fluid_changes_compartment_through_the_opening_only():

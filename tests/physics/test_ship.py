@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from physics_helpers import run_builtin
 
-from sph.bodies.damage import orifice_rate
+from sph.bodies.damage import HullGuard, orifice_rate
 from sph.bodies.hull import (
     cabin_area,
     flooded_equilibrium,
@@ -22,7 +22,8 @@ from sph.bodies.hull import (
 from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
-from sph.engine.opening import sdf_many
+from sph.engine.opening import OP_GROUP, OP_KG, OP_SEA, OP_SHAPE, OP_SHAPE_END, keel_frame, sdf_many
+from sph.engine.particles import GHOST
 from sph.study.analysis import decay_modes, oscillation_frequency
 
 DX = 0.8
@@ -175,6 +176,52 @@ def test_refined_cargo_stays_at_rest_in_a_fixed_hull():
         "geometry.dofs.sway=false", "geometry.dofs.heave=false", "geometry.dofs.roll=false"],
         t_end=0.4)
     assert vmax < 1.0, vmax
+
+
+def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_built():
+    """Variable resolution puts a ghost at its family's centre of mass at every rebuild of
+    the lists; where the family parts round the bilge that place lies inside the hull. The
+    hull guard acts on it before the lists are built: the ghost is back on the sea side
+    and the lists are built there (so the next step does not move it and force another
+    rebuild). Left across the plating, such ghosts turned active inside the refined hulls
+    of the Table I ships, 2 m from the plating, before the opening appeared."""
+    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
+    sim.advance()
+    p = sim.parts
+    guard = next(e for e in sim.setup.events if isinstance(e, HullGuard))
+    op = guard.params[0]
+    s = op[OP_SHAPE:OP_SHAPE_END]
+    u, w = keel_frame(p.x, p.z, op, sim.kin)
+    d = sdf_many(u, w, s)
+    sea = (p.kind == 0) & (p.comp == int(op[OP_SEA]))
+    fine = sea & (p.body != GHOST) & (p.hs < 1.0)
+    i = np.nonzero(fine & (u > s[0] - s[3]) & (w < s[1] + s[3]) & (d > 0.0))[0][0]
+    family = fine & (p.parent == p.parent[i])
+    assert family.sum() == 4
+    mother = int(np.nonzero(p.pid == p.parent[i])[0][0])
+    assert p.body[mother] == GHOST
+    # two children beside the side's end of the bilge, two below the bottom's end: their
+    # centre of mass lies 0.5 m inside the plating (bilge radius s[3])
+    r = s[3]
+    du = np.array([s[0] + 0.1, s[0] + 0.1, s[0] - r, s[0] - r])
+    dw = np.array([s[1] + r, s[1] + r, s[1] - 0.1, s[1] - 0.1])
+    mid_u, mid_w = du.mean(), dw.mean()
+    assert sdf_many(np.array([mid_u]), np.array([mid_w]), s)[0] < -0.3
+    g = int(op[OP_GROUP])
+    ct, st = np.cos(sim.kin[g, 2]), np.sin(sim.kin[g, 2])
+    ru, rw = du, dw - op[OP_KG]
+    p.x[family] = sim.kin[g, 0] + ct * ru - st * rw
+    p.z[family] = sim.kin[g, 1] + st * ru + ct * rw
+    mother_pid = p.pid[mother]
+    sim._listed = None  # rebuild the lists now
+    sim._neighbours()
+    p = sim.parts
+    m = int(np.nonzero(p.pid == mother_pid)[0][0])
+    um, wm = keel_frame(p.x[m:m + 1], p.z[m:m + 1], op, sim.kin)
+    assert p.body[m] == GHOST
+    assert sdf_many(um, wm, s)[0] > 0.0  # on the sea side
+    assert (p.x_sort[m], p.z_sort[m]) == (p.x[m], p.z[m])
 
 
 def test_early_inflow_through_the_opening_is_of_the_orifice_order():
