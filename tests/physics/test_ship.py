@@ -183,8 +183,9 @@ def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_bu
     the lists; where the family parts round the bilge that place lies inside the hull. The
     hull guard acts on it before the lists are built: the ghost is back on the sea side
     and the lists are built there (so the next step does not move it and force another
-    rebuild). Left across the plating, such ghosts turned active inside the refined hulls
-    of the Table I ships, 2 m from the plating, before the opening appeared."""
+    rebuild). Put back only at the next step, such a ghost forced a rebuild at every step;
+    left across the plating, up to 24 lay there in a refined Table I ship, which stopped
+    1.2 s after its opening appeared (docs/findings.md)."""
     sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
         "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
     sim.advance()
