@@ -65,6 +65,10 @@ class CaseSetup:
     refinement : list
         Refinement boxes the case sets itself (:class:`sph.engine.config.RefinementBox`,
         e.g. around a hull), added to ``numerics.refinement``.
+    refinement_groups : list
+        The wall group each of ``refinement`` follows (its box moves with the group's
+        reference point: a hull that sways and heaves keeps its fine region about it); 0
+        for a fixed box. Empty: every box fixed.
     open_boundary : OpenBoundary or None
         Inflow and outflow regions (:class:`sph.engine.openbc.OpenBoundary`), also listed
         in ``events``.
@@ -80,6 +84,7 @@ class CaseSetup:
     still_level: float | None = None
     bodies: list = field(default_factory=list)
     refinement: list = field(default_factory=list)
+    refinement_groups: list = field(default_factory=list)
     events: list = field(default_factory=list)
     extra_probes: dict[str, tuple] = field(default_factory=dict)
     opening: Any = None

@@ -581,8 +581,13 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  segment_weights=" ".join(f"{seg['weight']:.6g}" for seg in segs),
                  segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
                  opening_wall_particles=len(opening.opening_pids) if opening else 0)
+    boxes = hull_boxes(g, dx, pitch, n_seg)
+    # each segment's boxes follow its hull (wall group 1 + n_seg + s): the ship drifts with
+    # the waves, 25-30 m over the Table I runs, far beyond any margin
+    per_seg = len(boxes) // n_seg
+    box_groups = [1 + n_seg + k // per_seg for k in range(len(boxes))]
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
-                       refinement=hull_boxes(g, dx, pitch, n_seg),
+                       refinement=boxes, refinement_groups=box_groups,
                        diagnostics=diagnostics, attrs=attrs,
                        absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch,
                                                middle=0.5 * g.tank_length),

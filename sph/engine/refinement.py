@@ -120,7 +120,7 @@ def level_at(x, z, boxes, pad):
 
 
 @njit(**JIT)
-def _targets(x, z, boxes, pad):
+def levels_at(x, z, boxes, pad):
     """Level of the region (``pad = 0``) or of the buffered box (``pad``) at each point."""
     out = np.empty(x.shape[0], dtype=np.int32)
     for i in range(x.shape[0]):
@@ -140,7 +140,7 @@ def spawn(parts: Particles, boxes: np.ndarray, dx: float, grad_rho=(0.0, 0.0),
     n_new = 0
     for lev in range(int(boxes[:, BX_LEVEL].max())):
         own = levels(parts.hs)
-        cand = (own == lev) & (_targets(parts.x, parts.z, boxes, BUFFER * dx) > lev)
+        cand = (own == lev) & (levels_at(parts.x, parts.z, boxes, BUFFER * dx) > lev)
         if fluid_only:
             cand &= parts.kind == FLUID
         else:  # a moving wall group is refined whole if any of it is in reach
@@ -255,14 +255,14 @@ def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: n
     level."""
     n = parts.n
     r = np.nonzero(fluid & (own == 0))[0]  # the families' level-0 particles
-    inner = _targets(parts.x[r], parts.z[r], boxes, -HYSTERESIS * dx)
-    outer = _targets(parts.x[r], parts.z[r], boxes, HYSTERESIS * dx)
+    inner = levels_at(parts.x[r], parts.z[r], boxes, -HYSTERESIS * dx)
+    outer = levels_at(parts.x[r], parts.z[r], boxes, HYSTERESIS * dx)
     out = np.zeros(n, dtype=np.int32)
-    out[r] = _targets(parts.x[r], parts.z[r], boxes, 0.0)
+    out[r] = levels_at(parts.x[r], parts.z[r], boxes, 0.0)
     if hysteresis:
         keep = before[r] <= MAX_LEVEL
         out[r[keep]] = np.clip(before[r[keep]], inner[keep], outer[keep])
-    near = _targets(parts.x, parts.z, boxes, STRAY * dx)
+    near = levels_at(parts.x, parts.z, boxes, STRAY * dx)
     for lev in range(int(own.max()) if n else 0, 0, -1):
         at = fluid & (own == lev)
         count = np.bincount(root[at], minlength=n)
@@ -295,7 +295,7 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = Tr
     np.minimum.at(before, root[marked], own[marked])
     held = _family_sums(parts, marked & (own == before[root]), root)
     gone = np.zeros(parts.n, dtype=bool)
-    reach = _targets(parts.x, parts.z, boxes, BUFFER * dx)
+    reach = levels_at(parts.x, parts.z, boxes, BUFFER * dx)
     for lev in range(1, int(own.max()) + 1):
         kids = np.nonzero(fluid & (own == lev))[0]
         mother, found = _index_of(parts.pid, parts.parent[kids])
@@ -479,7 +479,7 @@ def wall_regions(x, z, kind, body, hs, boxes) -> np.ndarray:
     level's region: those whose forces count for their body."""
     moving = np.nonzero((kind != FLUID) & (body > 0))[0]
     out = np.zeros(x.shape[0], dtype=bool)
-    region = _targets(x[moving], z[moving], boxes, 0.0)
+    region = levels_at(x[moving], z[moving], boxes, 0.0)
     out[moving] = region == levels(hs[moving])
     return out
 

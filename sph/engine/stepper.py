@@ -38,15 +38,17 @@ from sph.engine.neighbours import (
     moved_or_outside,
 )
 from sph.engine.opening import no_opening
-from sph.engine.particles import FLOAT_FIELDS, FLUID, GHOST, INT_FIELDS, Particles
+from sph.engine.particles import FLOAT_FIELDS, FLUID, GHOST, INT_FIELDS, WALL, Particles
 from sph.engine.probes import point_pressures, surface_heights
 from sph.engine.refinement import (
+    BUFFER,
     active_fluid,
     assign,
     ghost_fields,
     ghost_sources,
     in_reach,
     level_counts,
+    levels_at,
     pack_boxes,
     spawn,
     wall_regions,
@@ -137,6 +139,14 @@ class Stepper:
         #: refinement boxes (:mod:`sph.engine.refinement`); none: uniform resolution
         self._box_list = list(num.refinement) + list(self.setup.refinement)
         self.boxes = pack_boxes(self._box_list)
+        #: the boxes as placed (the bodies at their initial places), the wall group each
+        #: follows (0: fixed) and those groups' initial kinematics (:meth:`_move_boxes`)
+        self._boxes0 = self.boxes.copy()
+        groups = list(self.setup.refinement_groups) or [0] * len(self.setup.refinement)
+        self._box_groups = np.array([0] * len(num.refinement) + groups, dtype=np.int64)
+        self._kin0 = fixed_kinematics(1 + len(self.setup.motions))
+        for k, motion in enumerate(self.setup.motions, start=1):
+            self._kin0[k] = motion.kinematics(0.0)
         self.variable = len(self.boxes) > 0
         if self.variable:
             log.warning("numerics.refinement: variable resolution is experimental "
@@ -254,6 +264,7 @@ class Stepper:
         every fluid particle active or a ghost, remove the ghosts beyond their buffer
         (:mod:`sph.engine.refinement`)."""
         dx = self.cfg.numerics.dx
+        self._move_boxes()
         parts, n_new = spawn(self.parts, self.boxes, dx, self._grad_rho())
         parts, n_gone = assign(parts, self.boxes, dx)
         if parts is not self.parts:
@@ -261,6 +272,32 @@ class Stepper:
             self.n_removed += n_gone
             self.parts = parts
             self._allocate_work()
+
+    def _move_boxes(self) -> None:
+        """Move each box that follows a wall group by that group's displacement since the
+        start (translation only: a box is wide enough for the hull's roll), so that a
+        drifting hull keeps its fine region about it. At every rebuild of the lists, from
+        the kinematics alone, so a run resumed from a checkpoint places them alike."""
+        g = self._box_groups
+        if not g.any():
+            return
+        shift = self.kin[g, :2] - self._kin0[g, :2]
+        self.boxes[:, 0:2] = self._boxes0[:, 0:2] + shift[:, 0:1]
+        self.boxes[:, 2:4] = self._boxes0[:, 2:4] + shift[:, 1:2]
+        # fixed walls got their fine layers at the start, within the boxes as placed then:
+        # a moving box must not take in any other
+        p, pad = self.parts, BUFFER * self.cfg.numerics.dx
+        fixed = np.nonzero((p.kind == WALL) & (p.body == 0))[0]
+        moved = g > 0
+        now = levels_at(p.x[fixed], p.z[fixed], self.boxes[moved], pad)
+        then = levels_at(p.x[fixed], p.z[fixed], self._boxes0[moved], pad)
+        if np.any(now > then):
+            k = fixed[np.argmax(now > then)]
+            raise SimulationError(self.step, self.t, (
+                f"the refinement box following wall group {int(g[moved][0])} reached the "
+                f"fixed wall at x = {p.x[k]:.2f} m, z = {p.z[k]:.2f} m, which has no layers "
+                f"of that level (its body moved {shift[moved][0, 0]:+.2f} m, "
+                f"{shift[moved][0, 1]:+.2f} m); place the body farther from the walls"))
 
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""

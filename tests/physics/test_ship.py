@@ -22,6 +22,7 @@ from sph.bodies.hull import (
 from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
+from sph.engine.stepper import SimulationError
 from sph.engine.opening import OP_GROUP, OP_KG, OP_SEA, OP_SHAPE, OP_SHAPE_END, keel_frame, sdf_many
 from sph.engine.particles import GHOST
 from sph.study.analysis import decay_modes, oscillation_frequency
@@ -223,6 +224,52 @@ def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_bu
     assert p.body[m] == GHOST
     assert sdf_many(um, wm, s)[0] > 0.0  # on the sea side
     assert (p.x_sort[m], p.z_sort[m]) == (p.x[m], p.z[m])
+
+
+def test_the_fine_region_follows_the_drifting_hull():
+    """The boxes of ``refine_hull`` move with their hull: the ship drifts with the waves
+    (25-30 m over a Table I run at coarse), so that fixed boxes left the flooding opening
+    and its jet outside the fine region within 3-4 m of drift, where families of fine
+    particles spread across it fell back to a coarse level inside the cabin and the refined
+    cases stopped 9 s after the damage. Moved 2 m (the hull's reference point displaced by
+    hand) and the lists rebuilt, the fluid beyond the old box's edge, inside the moved one,
+    is active at the fine level; the unmoved segment's boxes stay put."""
+    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
+    sim.advance()
+    n_seg = int(sim.setup.attrs["segments"])
+    group = 1 + n_seg  # the first segment's hull
+    follows = sim._box_groups == group
+    assert follows.any() and not follows.all()
+    box = sim.boxes[np.nonzero(follows)[0][0]].copy()
+    x_edge = box[1]
+
+    def fine_beyond_edge():
+        p = sim.parts
+        strip = (p.kind == 0) & (p.x > x_edge + DX) & (p.x < x_edge + 2.0 - DX)
+        strip &= (p.z > box[2] + DX) & (p.z < box[3] - DX)
+        assert strip.any()
+        return int((strip & (p.body != GHOST) & (p.hs < 1.0)).sum())
+
+    assert fine_beyond_edge() == 0
+    sim.kin[group, 0] += 2.0
+    sim._listed = None  # rebuild the lists now
+    sim._neighbours()
+    assert sim.boxes[follows, 0:2] == pytest.approx(sim._boxes0[follows, 0:2] + 2.0)
+    assert np.array_equal(sim.boxes[~follows], sim._boxes0[~follows])
+    assert fine_beyond_edge() > 10
+
+
+def test_a_fine_region_reaching_a_fixed_wall_stops_the_run():
+    """Fixed walls get their fine layers at the start, within the boxes as placed then: a
+    hull's box moved onto the tank floor stops the run naming the wall and the move."""
+    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
+    sim.advance()
+    sim.kin[1 + int(sim.setup.attrs["segments"]), 1] -= 8.0
+    sim._listed = None
+    with pytest.raises(SimulationError, match="reached the fixed wall .* -8.00 m"):
+        sim._neighbours()
 
 
 def test_early_inflow_through_the_opening_is_of_the_orifice_order():
