@@ -288,16 +288,17 @@ class Stepper:
         # a moving box must not take in any other
         p, pad = self.parts, BUFFER * self.cfg.numerics.dx
         fixed = np.nonzero((p.kind == WALL) & (p.body == 0))[0]
-        moved = g > 0
-        now = levels_at(p.x[fixed], p.z[fixed], self.boxes[moved], pad)
-        then = levels_at(p.x[fixed], p.z[fixed], self._boxes0[moved], pad)
-        if np.any(now > then):
-            k = fixed[np.argmax(now > then)]
-            raise SimulationError(self.step, self.t, (
-                f"the refinement box following wall group {int(g[moved][0])} reached the "
-                f"fixed wall at x = {p.x[k]:.2f} m, z = {p.z[k]:.2f} m, which has no layers "
-                f"of that level (its body moved {shift[moved][0, 0]:+.2f} m, "
-                f"{shift[moved][0, 1]:+.2f} m); place the body farther from the walls"))
+        for b in np.nonzero(g)[0]:
+            now = levels_at(p.x[fixed], p.z[fixed], self.boxes[b:b + 1], pad)
+            then = levels_at(p.x[fixed], p.z[fixed], self._boxes0[b:b + 1], pad)
+            if np.any(now > then):
+                k = fixed[np.argmax(now > then)]
+                raise SimulationError(self.step, self.t, (
+                    f"the level-{int(self.boxes[b, 4])} refinement box following wall group "
+                    f"{int(g[b])} reached the fixed wall at x = {p.x[k]:.2f} m, z = "
+                    f"{p.z[k]:.2f} m, which has no layers of that level (the group moved "
+                    f"{shift[b, 0]:+.2f} m, {shift[b, 1]:+.2f} m); place the body farther "
+                    f"from the walls"))
 
     def _allocate_work(self) -> None:
         """Per-particle work arrays; call again when the number of particles changes."""

@@ -22,9 +22,9 @@ from sph.bodies.hull import (
 from sph.cases import builtin
 from sph.cases.ship import _to_keel
 from sph.driver import Simulation
-from sph.engine.stepper import SimulationError
 from sph.engine.opening import OP_GROUP, OP_KG, OP_SEA, OP_SHAPE, OP_SHAPE_END, keel_frame, sdf_many
 from sph.engine.particles import GHOST
+from sph.engine.stepper import SimulationError
 from sph.study.analysis import decay_modes, oscillation_frequency
 
 DX = 0.8
