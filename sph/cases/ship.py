@@ -401,7 +401,7 @@ def hull_boxes(g, dx: float, pitch: float, n_seg: int) -> list[RefinementBox]:
 
     out = []
     hull = g.hull
-    keel = g.depth - hull.draught
+    keel = g.depth - hull.draught + g.heave_offset
     for s in range(n_seg):
         xc = g.ship_x + s * pitch
         grow = g.refine_margin

@@ -564,6 +564,7 @@ class Stepper:
             "particles.f": self.parts.f,
             "particles.i": self.parts.i,
             "kin": self.kin,
+            "boxes": self.boxes,  # as placed at the last rebuild (:meth:`_move_boxes`)
         }
         for name, tp in STATE_SCALARS.items():
             out[name] = np.array(tp(getattr(self, name)))
@@ -610,6 +611,11 @@ class Stepper:
         self.parts = parts
         self._allocate_work()
         self.kin[:] = state["kin"]
+        if "boxes" in state:  # (states written before the boxes moved have fixed ones)
+            if state["boxes"].shape != self.boxes.shape:
+                raise StateMismatch(f"{state['boxes'].shape[0]} refinement boxes, this case "
+                                    f"has {self.boxes.shape[0]}")
+            self.boxes[:] = state["boxes"]
         for name, tp in STATE_SCALARS.items():
             setattr(self, name, tp(state[name][()]))
         for k, obj in enumerate(self.stateful):

@@ -260,6 +260,28 @@ def test_the_fine_region_follows_the_drifting_hull():
     assert fine_beyond_edge() > 10
 
 
+def test_a_run_with_moving_boxes_restarts_bit_for_bit():
+    """The boxes a stepper's state holds are those of the last rebuild of the lists, so a
+    run restarted from its state continues exactly as the uninterrupted one while its
+    hull moves (released 1 m above its draught, it falls and its boxes with it)."""
+    over = STILL_SMALL_TANK + ["geometry.refine_hull=1", "geometry.fill=0",
+                               "geometry.heave_offset=1.0", "run.t_end=1"]
+    whole = Simulation(builtin("damaged_ship", over))
+    for _ in range(300):
+        whole.advance()
+    first = Simulation(builtin("damaged_ship", over))
+    for _ in range(150):
+        first.advance()
+    second = Simulation(builtin("damaged_ship", over))
+    second.set_state(first.get_state())
+    assert np.abs(first.boxes - first._boxes0).max() > 0.005  # the boxes moved
+    np.testing.assert_array_equal(second.boxes, first.boxes)  # as the lists were built
+    for _ in range(150):
+        second.advance()
+    np.testing.assert_array_equal(second.boxes, whole.boxes)
+    np.testing.assert_array_equal(second.parts.f, whole.parts.f)
+
+
 def test_a_fine_region_reaching_a_fixed_wall_stops_the_run():
     """Fixed walls get their fine layers at the start, within the boxes as placed then: a
     hull's box moved onto the tank floor stops the run naming the wall and the move."""
