@@ -69,6 +69,9 @@ class CaseSetup:
         The wall group each of ``refinement`` follows (its box moves with the group's
         reference point: a hull that sways and heaves keeps its fine region about it); 0
         for a fixed box. Empty: every box fixed.
+    refinement_step : float
+        A box following a group is moved once the group is this far (m, in x or z) from
+        where the box was last placed for it (0: at every rebuild of the lists).
     open_boundary : OpenBoundary or None
         Inflow and outflow regions (:class:`sph.engine.openbc.OpenBoundary`), also listed
         in ``events``.
@@ -85,6 +88,7 @@ class CaseSetup:
     bodies: list = field(default_factory=list)
     refinement: list = field(default_factory=list)
     refinement_groups: list = field(default_factory=list)
+    refinement_step: float = 0.0
     events: list = field(default_factory=list)
     extra_probes: dict[str, tuple] = field(default_factory=dict)
     opening: Any = None

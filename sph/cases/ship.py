@@ -588,6 +588,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     box_groups = [1 + n_seg + k // per_seg for k in range(len(boxes))]
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
                        refinement=boxes, refinement_groups=box_groups,
+                       refinement_step=0.5 * g.refine_margin,
                        diagnostics=diagnostics, attrs=attrs,
                        absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch,
                                                middle=0.5 * g.tank_length),

@@ -276,14 +276,24 @@ class Stepper:
     def _move_boxes(self) -> None:
         """Move each box that follows a wall group by that group's displacement since the
         start (translation only: a box is wide enough for the hull's roll), so that a
-        drifting hull keeps its fine region about it. At every rebuild of the lists, from
-        the kinematics alone, so a run resumed from a checkpoint places them alike."""
+        drifting hull keeps its fine region about it. Checked at every rebuild of the
+        lists; a box is moved only once its group is ``setup.refinement_step`` or more
+        (in x or z) from where the box was last placed for it, so that its edges stand
+        still while the hull oscillates about its drift (edges swept back and forth split
+        and merge the families on them every wave period). The boxes as placed are part of
+        the state (:meth:`get_state`)."""
         g = self._box_groups
         if not g.any():
             return
         shift = self.kin[g, :2] - self._kin0[g, :2]
-        self.boxes[:, 0:2] = self._boxes0[:, 0:2] + shift[:, 0:1]
-        self.boxes[:, 2:4] = self._boxes0[:, 2:4] + shift[:, 1:2]
+        placed = np.column_stack([self.boxes[:, 0] - self._boxes0[:, 0],
+                                  self.boxes[:, 2] - self._boxes0[:, 2]])
+        step = self.setup.refinement_step
+        move = (g > 0) & np.any(np.abs(shift - placed) >= step, axis=1)
+        if not move.any():
+            return
+        self.boxes[move, 0:2] = self._boxes0[move, 0:2] + shift[move, 0:1]
+        self.boxes[move, 2:4] = self._boxes0[move, 2:4] + shift[move, 1:2]
         # fixed walls got their fine layers at the start, within the boxes as placed then:
         # a moving box must not take in any other
         p, pad = self.parts, BUFFER * self.cfg.numerics.dx
