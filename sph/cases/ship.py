@@ -391,15 +391,17 @@ def _cargo_columns(hull, fill, dx, inner):
     return np.concatenate(pts), np.concatenate(vols), level
 
 
-def hull_boxes(g, dx: float, pitch: float, n_seg: int) -> list[RefinementBox]:
+def hull_boxes(g, dx: float, pitch: float, n_seg: int
+               ) -> tuple[list[RefinementBox], list[int]]:
     """Refinement boxes around each segment's hull (``geometry.refine_hull``): one of that
     level reaching ``refine_margin`` beyond the hull's breadth, keel and deck, inside one of
     each coarser level that is wider by the finer level's buffer of ghosts and one spacing
     of its own (:data:`sph.engine.refinement.BUFFER`), so that every buffer lies in the
-    next coarser box."""
+    next coarser box. Returns the boxes and the wall group of the hull each follows
+    (segment ``s``'s hull is group ``1 + n_seg + s``)."""
     from sph.engine.refinement import BUFFER
 
-    out = []
+    out, groups = [], []
     hull = g.hull
     keel = g.depth - hull.draught + g.heave_offset
     for s in range(n_seg):
@@ -409,8 +411,9 @@ def hull_boxes(g, dx: float, pitch: float, n_seg: int) -> list[RefinementBox]:
             out.append(RefinementBox(x=(xc - 0.5 * hull.breadth - grow,
                                         xc + 0.5 * hull.breadth + grow),
                                      z=(keel - grow, keel + hull.depth + grow), level=level))
+            groups.append(1 + n_seg + s)
             grow += (BUFFER + 2.0) * dx * 2.0 ** -level
-    return out
+    return out, groups
 
 
 def setup(cfg: CaseConfig) -> CaseSetup:
@@ -581,11 +584,9 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  segment_weights=" ".join(f"{seg['weight']:.6g}" for seg in segs),
                  segment_pitch=pitch, heel=g.heel, heave_offset=g.heave_offset,
                  opening_wall_particles=len(opening.opening_pids) if opening else 0)
-    boxes = hull_boxes(g, dx, pitch, n_seg)
-    # each segment's boxes follow its hull (wall group 1 + n_seg + s): the ship drifts with
-    # the waves, 25-30 m over the Table I runs, far beyond any margin
-    per_seg = len(boxes) // n_seg
-    box_groups = [1 + n_seg + k // per_seg for k in range(len(boxes))]
+    # each segment's boxes follow its hull: the ship drifts with the waves, 25-30 m over
+    # the Table I runs, far beyond any margin
+    boxes, box_groups = hull_boxes(g, dx, pitch, n_seg)
     setup_ = CaseSetup(parts, bounds, g.depth, motions=motions, bodies=[body], events=events,
                        refinement=boxes, refinement_groups=box_groups,
                        refinement_step=0.5 * g.refine_margin,

@@ -298,7 +298,7 @@ class Stepper:
         # a moving box must not take in any other
         p, pad = self.parts, BUFFER * self.cfg.numerics.dx
         fixed = np.nonzero((p.kind == WALL) & (p.body == 0))[0]
-        for b in np.nonzero(g)[0]:
+        for b in np.nonzero(move)[0]:
             now = levels_at(p.x[fixed], p.z[fixed], self.boxes[b:b + 1], pad)
             then = levels_at(p.x[fixed], p.z[fixed], self._boxes0[b:b + 1], pad)
             if np.any(now > then):

@@ -179,6 +179,21 @@ def test_refined_cargo_stays_at_rest_in_a_fixed_hull():
     assert vmax < 1.0, vmax
 
 
+def _refined_still_ship():
+    """The small still-water ship with its hull at dx / 2 (``refine_hull`` 1), one step
+    taken."""
+    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
+        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
+    sim.advance()
+    return sim
+
+
+def _rebuild_lists(sim):
+    """Refine and rebuild the neighbour lists now, as at a rebuild during a step."""
+    sim._listed = None
+    sim._neighbours()
+
+
 def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_built():
     """Variable resolution puts a ghost at its family's centre of mass at every rebuild of
     the lists; where the family parts round the bilge that place lies inside the hull. The
@@ -187,9 +202,7 @@ def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_bu
     rebuild). Put back only at the next step, such a ghost forced a rebuild at every step;
     left across the plating, up to 24 lay there in a refined Table I ship, which stopped
     1.2 s after its opening appeared (docs/findings.md)."""
-    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
-        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
-    sim.advance()
+    sim = _refined_still_ship()
     p = sim.parts
     guard = next(e for e in sim.setup.events if isinstance(e, HullGuard))
     op = guard.params[0]
@@ -216,8 +229,7 @@ def test_a_ghost_anchored_across_the_plating_is_put_back_before_the_lists_are_bu
     p.x[family] = sim.kin[g, 0] + ct * ru - st * rw
     p.z[family] = sim.kin[g, 1] + st * ru + ct * rw
     mother_pid = p.pid[mother]
-    sim._listed = None  # rebuild the lists now
-    sim._neighbours()
+    _rebuild_lists(sim)
     p = sim.parts
     m = int(np.nonzero(p.pid == mother_pid)[0][0])
     um, wm = keel_frame(p.x[m:m + 1], p.z[m:m + 1], op, sim.kin)
@@ -236,9 +248,7 @@ def test_the_fine_region_follows_the_drifting_hull():
     its drift. Displaced 1 m by hand, the boxes stay; 2.5 m, and the lists rebuilt, the
     fluid beyond the old box's edge, inside the moved one, is active at the fine level; the
     other segment's boxes stay put."""
-    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
-        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
-    sim.advance()
+    sim = _refined_still_ship()
     n_seg = int(sim.setup.attrs["segments"])
     group = 1 + n_seg  # the first segment's hull
     follows = sim._box_groups == group
@@ -255,12 +265,10 @@ def test_the_fine_region_follows_the_drifting_hull():
 
     assert fine_beyond_edge() == 0
     sim.kin[group, 0] += 1.0
-    sim._listed = None  # rebuild the lists now
-    sim._neighbours()
+    _rebuild_lists(sim)
     assert np.array_equal(sim.boxes, sim._boxes0)
     sim.kin[group, 0] += 1.5
-    sim._listed = None
-    sim._neighbours()
+    _rebuild_lists(sim)
     assert sim.boxes[follows, 0:2] == pytest.approx(sim._boxes0[follows, 0:2] + 2.5)
     assert np.array_equal(sim.boxes[~follows], sim._boxes0[~follows])
     assert fine_beyond_edge() > 10
@@ -292,13 +300,10 @@ def test_a_run_with_moving_boxes_restarts_bit_for_bit():
 def test_a_fine_region_reaching_a_fixed_wall_stops_the_run():
     """Fixed walls get their fine layers at the start, within the boxes as placed then: a
     hull's box moved onto the tank floor stops the run naming the wall and the move."""
-    sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
-        "geometry.refine_hull=1", "geometry.fill=0", "run.t_end=1"]))
-    sim.advance()
+    sim = _refined_still_ship()
     sim.kin[1 + int(sim.setup.attrs["segments"]), 1] -= 8.0
-    sim._listed = None
     with pytest.raises(SimulationError, match="reached the fixed wall .* -8.00 m"):
-        sim._neighbours()
+        _rebuild_lists(sim)
 
 
 def test_early_inflow_through_the_opening_is_of_the_orifice_order():
