@@ -70,6 +70,11 @@ class Numerics:
                                  "wall never pulls), free_surface (clamped at zero for "
                                  "free-surface fluid only, the second source paper's Eq. 6) "
                                  "or none (sph.engine.surface)")
+    pressure_floor: float | None = spec(
+        None, lo=-1.0e8, hi=0.0, unit="Pa",
+        doc="lowest fluid pressure (gauge); null = none. -1.0e5: water cavitates about one "
+            "atmosphere below the ambient pressure, and SPH fluid held in a larger tension "
+            "clumps and jets (docs/model.md)")
     wall_layers: int = spec(0, lo=0, hi=20,
                             doc="layers of dummy particles; 0 = enough to cover the support")
     threads: int = spec(0, lo=0, hi=1024, doc="numba threads; 0 = NUMBA_NUM_THREADS")

@@ -79,8 +79,8 @@ from sph.engine.surface import CLAMP, wall_pair_terms
 
 
 @njit(inline="always", **JIT)
-def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, grx,
-                  grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor):
+def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, ghost,
+                  grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor):
     """What particle ``j`` within the support adds to the sums of a fluid particle
     ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
     as :func:`_sums_general` returns them. ``s``: the pair's smoothing length over the
@@ -96,7 +96,10 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
     vr = dvx * dx + dvz * dz
     diff = 0.0
     if kind[j] == FLUID:
-        coef = -m[j] * (pi + p[j]) / (rhoi * rhoj)
+        psum = pi + p[j]
+        if ghost and psum < 0.0:  # a ghost pushes, never pulls (sph.engine.refinement)
+            psum = 0.0
+        coef = -m[j] * psum / (rhoi * rhoj)
         coef += s * visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + s * s * eps2)
         if ddt_rho != 0.0:
             rho_h = -ddt_rho * (gx * dx + gz * dz)
@@ -161,8 +164,8 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
             if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
-                              kind, grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho,
-                              use_delta, s, pwall, pfloor)
+                              kind, body[j] == GHOST, grx, grz, kp, visc_coef, eps2, gx, gz,
+                              ddt_rho, use_delta, s, pwall, pfloor)
             accx += t[0]
             accz += t[1]
             div += t[2]
@@ -206,8 +209,8 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
                 continue
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
-                          p, m, kind, rho, rho, kp, visc_coef, eps2, gx, gz, ddt_rho, False,
-                          s, pwall, pfloor)
+                          p, m, kind, body[j] == GHOST, rho, rho, kp, visc_coef, eps2, gx, gz,
+                          ddt_rho, False, s, pwall, pfloor)
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -227,7 +230,7 @@ def pair_work(n: int) -> np.ndarray:
 
 
 @njit(**JIT_PARALLEL_PAIR)
-def pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk):
+def pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk):
     """Copy what a pair reads of its neighbour into one row per particle, 64 bytes: position,
     velocity, density, pressure, volume ``m / rho`` and the mass of a fluid particle (0 for
     a wall particle). A pair then loads one cache line instead of one from each of nine
@@ -240,10 +243,13 @@ def pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk):
         pk[j, PK_RHO] = rho[j]
         pk[j, PK_P] = p[j]
         pk[j, PK_VOL] = m[j] / rho[j]
-        pk[j, PK_MFLUID] = m[j] if kind[j] == FLUID else 0.0
+        if kind[j] != FLUID:
+            pk[j, PK_MFLUID] = 0.0
+        else:  # a ghost's mass is stored negated: it pushes and never pulls
+            pk[j, PK_MFLUID] = -m[j] if body[j] == GHOST else m[j]
 
 
-def _list_sums(wendland: bool, diffusion: bool):
+def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
     """The pair sums of :func:`_sums_general` for a fluid particle that cannot see through
     a damage opening, over its inner list ``inner[k0:k1]``
     (:meth:`sph.engine.neighbours.NeighbourList.refresh`: the particles within the support
@@ -255,10 +261,12 @@ def _list_sums(wendland: bool, diffusion: bool):
     data (:func:`pack_pair_data`); ``hx dx + hz dz`` is the hydrostatic density difference
     of the ``ddt`` diffusive term (0: none).
 
-    One loop per kernel (``wendland``) and per density filter: ``diffusion`` adds the
-    diffusive term; without it (MLS or no filter) ``diff`` is 0. The two choices are
-    constants of the compiled loop, not tests in it: one loop with the kernel chosen per
-    pair took about 1.5 times as long on the damaged ship.
+    One loop per kernel (``wendland``), per density filter (``diffusion`` adds the
+    diffusive term; without it, MLS or no filter, ``diff`` is 0) and for variable resolution
+    (``ghosts``: a ghost's mass is stored negated, and its pressure sum with the particle
+    counts only when it pushes). The choices are constants of the compiled loop, not tests
+    in it: one loop with the kernel chosen per pair took about 1.5 times as long on the
+    damaged ship, and the ghosts' test in every loop 1.03 times.
     """
 
     @njit(inline="always", **JIT_PAIR)
@@ -298,15 +306,19 @@ def _list_sums(wendland: bool, diffusion: bool):
                 fw = (fwend if pair else 0.0) * t2 * t
             else:
                 fw = (fg if pair else 0.0) * exp_neg(min(r2 * inv_h2, 9.0))
+            pj = pk[j, PK_P]
             mj = pk[j, PK_MFLUID]
             fluid = mj != 0.0
+            psum = pi + pj if fluid else max(pwall + pj, pfloor)
+            if ghosts and mj < 0.0:  # a ghost: pushes and never pulls
+                mj = -mj
+                psum = max(psum, 0.0)
             vj = pk[j, PK_VOL]
             rhoj = pk[j, PK_RHO]
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
             div += vj * vr * fw
-            pj = pk[j, PK_P]
             # numerics.wall_tension: max(pwall + pj, pfloor) against a wall particle
-            coef = -((pi + pj) if fluid else max(pwall + pj, pfloor)) * vj * inv_rhoi
+            coef = -psum * vj * inv_rhoi
             coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
             accx += coef * fw * dx
             accz += coef * fw * dz
@@ -323,10 +335,44 @@ def _list_sums(wendland: bool, diffusion: bool):
     return sums
 
 
-_sums_gaussian = _list_sums(wendland=False, diffusion=False)
-_sums_gaussian_diffusion = _list_sums(wendland=False, diffusion=True)
-_sums_wendland = _list_sums(wendland=True, diffusion=False)
-_sums_wendland_diffusion = _list_sums(wendland=True, diffusion=True)
+_sums_gaussian = _list_sums(wendland=False, diffusion=False, ghosts=False)
+_sums_gaussian_diffusion = _list_sums(wendland=False, diffusion=True, ghosts=False)
+_sums_wendland = _list_sums(wendland=True, diffusion=False, ghosts=False)
+_sums_wendland_diffusion = _list_sums(wendland=True, diffusion=True, ghosts=False)
+_sums_gaussian_ghosts = _list_sums(wendland=False, diffusion=False, ghosts=True)
+_sums_gaussian_diffusion_ghosts = _list_sums(wendland=False, diffusion=True, ghosts=True)
+_sums_wendland_ghosts = _list_sums(wendland=True, diffusion=False, ghosts=True)
+_sums_wendland_diffusion_ghosts = _list_sums(wendland=True, diffusion=True, ghosts=True)
+
+
+@njit(inline="always", **JIT_PAIR)
+def _sums_of(gauss, diffusion, variable, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
+             s, pwall, pfloor):
+    """The list loop of :func:`_list_sums` for the kernel (``gauss``), the density filter
+    (``diffusion``) and variable resolution (``variable``: with ghosts)."""
+    if variable:
+        if gauss and diffusion:
+            return _sums_gaussian_diffusion_ghosts(
+                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+        if gauss:
+            return _sums_gaussian_ghosts(
+                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+        if diffusion:
+            return _sums_wendland_diffusion_ghosts(
+                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+        return _sums_wendland_ghosts(
+            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+    if gauss and diffusion:
+        return _sums_gaussian_diffusion(
+            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+    if gauss:
+        return _sums_gaussian(
+            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+    if diffusion:
+        return _sums_wendland_diffusion(
+            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+    return _sums_wendland(
+        i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
 
 
 @njit(**JIT_PARALLEL_PAIR)
@@ -379,7 +425,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         ``FREE_SURFACE``; None otherwise.
     """
     n = x.shape[0]
-    pack_pair_data(x, z, vx, vz, rho, p, m, kind, pk)
+    pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk)
     use_delta = delta_coef != 0.0
     # the renormalised term needs grx, grz
     general = use_delta and ddt_rho == 0.0
@@ -401,18 +447,9 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             k1 = inner_end[i]
             # every pair of a list is of the particle's own level (pair_scale)
             s = hs[i] if variable else 1.0
-            if gauss and use_delta:
-                accx, accz, div, diff, shep = _sums_gaussian_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-            elif gauss:
-                accx, accz, div, diff, shep = _sums_gaussian(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-            elif use_delta:
-                accx, accz, div, diff, shep = _sums_wendland_diffusion(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-            else:
-                accx, accz, div, diff, shep = _sums_wendland(
-                    i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+            accx, accz, div, diff, shep = _sums_of(
+                gauss, use_delta, variable, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                hz, s, pwall, pfloor)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,

@@ -31,9 +31,12 @@ around it, of every level, by a first-order moving least squares fit with each s
 own kernel (:func:`ghost_fields`: exact for a linear field, so a fluid at rest keeps its
 hydrostatic pressure across a boundary); its pressure follows from the equation of state.
 A ghost moves with its interpolated velocity; it exerts pressure and viscous forces on the
-active particles of its level, and nothing acts back on it. Ghosts are kept out of the
-mass, the energies, the probes and the forces on bodies (the particle field ``body`` of a
-ghost is :data:`sph.engine.particles.GHOST`).
+active particles of its level, and nothing acts back on it. So it pushes and never pulls
+(:mod:`sph.engine.fluid`: their pressure sum counts only when positive, as against a wall):
+a pull is not balanced, and in a splash in tension the ghosts ahead of a fine particle,
+fitted to its own velocity, pulled it along to 57 m/s (refined Table I case 5). Ghosts are
+kept out of the mass, the energies, the probes and the forces on bodies (the particle field
+``body`` of a ghost is :data:`sph.engine.particles.GHOST`).
 
 **Families** (:func:`spawn`, :func:`assign`): a particle of level ``l`` inside the
 buffered box of a finer level gets four children of a quarter of its mass tiling its cell

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sph.engine.config import CaseConfig, ConfigError
-from sph.engine.eos import fluid_pressures
+from sph.engine.eos import cavitation_floor, fluid_pressures, tait_density
 from sph.engine.filters import mls_density, renormalised_density_gradient
 from sph.engine.fluid import interact, pair_work
 from sph.engine.integrator import max_speed_accel, time_step, verlet_update
@@ -175,6 +175,9 @@ class Stepper:
         #: the pressure sum of fluid and wall particles (:mod:`sph.engine.surface`); the
         #: free-surface flags are computed only when the rule needs them
         self.tension = WALL_TENSION[num.wall_tension]
+        #: the density of numerics.pressure_floor (0: none; sph.engine.eos.cavitation_floor)
+        self._rho_floor = (0.0 if num.pressure_floor is None else
+                           tait_density(num.pressure_floor, fl.rho0, self.b, fl.gamma))
         #: damage opening parameters for the kernels (:mod:`sph.engine.opening`)
         self.op = (self.setup.opening.params if self.setup.opening is not None
                    else no_opening())
@@ -343,6 +346,8 @@ class Stepper:
             ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
                          p.kind, p.body, p.comp, p.hs, *self._sources, self.kp, self.op,
                          self.kin, self._reach, self._rebuilt, self._grad_rho())
+        if self._rho_floor:
+            cavitation_floor(p.rho, p.rho_old, p.kind, self._rho_floor)
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
         hs = self._hs(p)
         wall_pressure(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, hs, self.kp, self.gx,

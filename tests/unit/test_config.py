@@ -102,6 +102,8 @@ BAD_OVERRIDES = [
     ("override-without-equals", "still_water", ["numerics.dx"], "numerics.dx", False),
     ("override-into-non-section", "still_water", ["run.t_end.x=1"], "run.t_end", False),
     ("override-unparsable-value", "still_water", ["numerics.dx=[0.1"], "numerics.dx", False),
+    ("pressure-floor-positive", "still_water", ["numerics.pressure_floor=1000.0"],
+     "numerics.pressure_floor", True),
 ]
 
 

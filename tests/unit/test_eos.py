@@ -7,7 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from sph.engine.eos import fluid_pressures, hydrostatic_density, tait_density, tait_pressure
+from sph.engine.eos import (
+    cavitation_floor,
+    fluid_pressures,
+    hydrostatic_density,
+    tait_density,
+    tait_pressure,
+)
 from sph.engine.particles import FLUID, WALL
 
 RHO0 = 1000.0
@@ -103,3 +109,12 @@ def test_fluid_pressures_fills_fluid_only():
     fl = kind == FLUID
     np.testing.assert_allclose(p[fl], b * ((rho[fl] / RHO0) ** gamma - 1.0), rtol=1e-12)
     assert np.all(p[~fl] == -123.0)
+
+
+def test_cavitation_floor_raises_the_fluid_below_it_at_both_levels():
+    rho = np.array([990.0, 999.0, 1001.0, 990.0])
+    old = np.array([999.5, 990.0, 1001.0, 990.0])
+    kind = np.array([FLUID, FLUID, FLUID, WALL], np.int32)
+    cavitation_floor(rho, old, kind, 999.0)
+    np.testing.assert_array_equal(rho, [999.0, 999.0, 1001.0, 990.0])
+    np.testing.assert_array_equal(old, [999.5, 999.0, 1001.0, 990.0])
