@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import field
 from pathlib import Path
 from typing import Any, get_args, get_origin, get_type_hints
@@ -72,7 +73,11 @@ def _check_scalar(key: str, value, tp, meta):
         return None
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ConfigError(key, f"expected a number {_range_text(meta)}, got {show(value)}")
+            hint = ""
+            if isinstance(value, str) and re.fullmatch(r"\s*[-+]?\d*\.?\d+[eE]\d+\s*", value):
+                hint = " (YAML reads an exponent without its sign as text: write 1.0e+5)"
+            raise ConfigError(key, f"expected a number {_range_text(meta)}, got "
+                                   f"{show(value)}{hint}")
         try:
             value = float(value)
         except OverflowError:  # an integer beyond the float range

@@ -122,6 +122,16 @@ def test_bad_input_is_rejected(case, overrides, key, with_range):
         assert any(m in msg for m in RANGE_MARKERS), msg
 
 
+def test_an_exponent_without_its_sign_is_explained():
+    """YAML 1.1 reads -1.0e5 as text; the error says how to write the number."""
+    with pytest.raises(ConfigError) as info:
+        _build("still_water", ["numerics.pressure_floor=-1.0e5"])
+    assert info.value.key == "numerics.pressure_floor"
+    assert "got '-1.0e5'" in str(info.value) and "1.0e+5" in str(info.value)
+    assert _build("still_water", ["numerics.pressure_floor=-1.0e+5"]).numerics.pressure_floor \
+        == -1.0e5
+
+
 def test_bad_input_cases_are_distinct():
     ids = [c[0] for c in BAD_OVERRIDES]
     assert len(ids) == len(set(ids))
