@@ -335,44 +335,33 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
     return sums
 
 
-_sums_gaussian = _list_sums(wendland=False, diffusion=False, ghosts=False)
-_sums_gaussian_diffusion = _list_sums(wendland=False, diffusion=True, ghosts=False)
-_sums_wendland = _list_sums(wendland=True, diffusion=False, ghosts=False)
-_sums_wendland_diffusion = _list_sums(wendland=True, diffusion=True, ghosts=False)
-_sums_gaussian_ghosts = _list_sums(wendland=False, diffusion=False, ghosts=True)
-_sums_gaussian_diffusion_ghosts = _list_sums(wendland=False, diffusion=True, ghosts=True)
-_sums_wendland_ghosts = _list_sums(wendland=True, diffusion=False, ghosts=True)
-_sums_wendland_diffusion_ghosts = _list_sums(wendland=True, diffusion=True, ghosts=True)
+def _list_loop(ghosts: bool):
+    """One call for the four list loops of :func:`_list_sums` with or without ``ghosts``
+    (variable resolution): ``sums(gauss, diffusion, i, k0, ...)`` picks the kernel's and the
+    density filter's loop."""
+    gauss_diff = _list_sums(wendland=False, diffusion=True, ghosts=ghosts)
+    gauss = _list_sums(wendland=False, diffusion=False, ghosts=ghosts)
+    wend_diff = _list_sums(wendland=True, diffusion=True, ghosts=ghosts)
+    wend = _list_sums(wendland=True, diffusion=False, ghosts=ghosts)
 
-
-@njit(inline="always", **JIT_PAIR)
-def _sums_of(gauss, diffusion, variable, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
-             s, pwall, pfloor):
-    """The list loop of :func:`_list_sums` for the kernel (``gauss``), the density filter
-    (``diffusion``) and variable resolution (``variable``: with ghosts)."""
-    if variable:
-        if gauss and diffusion:
-            return _sums_gaussian_diffusion_ghosts(
-                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-        if gauss:
-            return _sums_gaussian_ghosts(
-                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+    @njit(inline="always", **JIT_PAIR)
+    def sums(gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+             pwall, pfloor):
+        if gaussian and diffusion:
+            return gauss_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
+                              pfloor)
+        if gaussian:
+            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
         if diffusion:
-            return _sums_wendland_diffusion_ghosts(
-                i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-        return _sums_wendland_ghosts(
-            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-    if gauss and diffusion:
-        return _sums_gaussian_diffusion(
-            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-    if gauss:
-        return _sums_gaussian(
-            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-    if diffusion:
-        return _sums_wendland_diffusion(
-            i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
-    return _sums_wendland(
-        i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+            return wend_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
+                             pfloor)
+        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+
+    return sums
+
+
+_sums_uniform = _list_loop(ghosts=False)
+_sums_variable = _list_loop(ghosts=True)
 
 
 @njit(**JIT_PARALLEL_PAIR)
@@ -447,9 +436,14 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             k1 = inner_end[i]
             # every pair of a list is of the particle's own level (pair_scale)
             s = hs[i] if variable else 1.0
-            accx, accz, div, diff, shep = _sums_of(
-                gauss, use_delta, variable, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
-                hz, s, pwall, pfloor)
+            if variable:
+                accx, accz, div, diff, shep = _sums_variable(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor)
+            else:
+                accx, accz, div, diff, shep = _sums_uniform(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
