@@ -110,7 +110,7 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
     else:  # numerics.wall_tension: by default a wall pushes and never pulls
         coef = -m[j] * max(pwall + p[j], pfloor) / (rhoi * rhoj)
     return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
-            vj * w)
+            0.0 if ghost else vj * w)
 
 
 @njit(**JIT)
@@ -310,9 +310,11 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             mj = pk[j, PK_MFLUID]
             fluid = mj != 0.0
             psum = pi + pj if fluid else max(pwall + pj, pfloor)
+            counted = pair  # in the kernel sum (shifting's gate): not a ghost
             if ghosts and mj < 0.0:  # a ghost: pushes and never pulls
                 mj = -mj
                 psum = max(psum, 0.0)
+                counted = False
             vj = pk[j, PK_VOL]
             rhoj = pk[j, PK_RHO]
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
@@ -329,7 +331,7 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
                 w = vj * alpha * t2 * t2 * (2.0 * q + 1.0)
             else:
                 w = vj * (-0.5 * h2 * fw - wg)
-            shep += w if pair else 0.0
+            shep += w if counted else 0.0
         return accx, accz, div, diff, shep
 
     return sums

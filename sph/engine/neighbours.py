@@ -276,14 +276,18 @@ def _fill_inner(x, z, hs, r2, start, index, inner, inner_end):
 
 
 @njit(**JIT_PARALLEL)
-def moved_or_outside(x, z, xs, zs, half_skin2, xmin, xmax, zmin, zmax):
+def moved_or_outside(x, z, xs, zs, half_skin2, xmin, xmax, zmin, zmax, hs=None):
     """True when a particle has moved more than ``sqrt(half_skin2)`` from ``(xs, zs)`` or
-    is outside the domain (or NaN): the lists and cells must be rebuilt."""
+    is outside the domain (or NaN): the lists and cells must be rebuilt. Under variable
+    resolution (``hs``: each particle's smoothing length over the case's) a particle's own
+    level's skin counts, ``sqrt(half_skin2) hs``: its pairs are of its level, listed at that
+    level's radius."""
     n = x.shape[0]
     bad = 0
     for i in prange(n):
         dx = x[i] - xs[i]
         dz = z[i] - zs[i]
-        if not (dx * dx + dz * dz <= half_skin2 and _inside(x[i], z[i], xmin, xmax, zmin, zmax)):
+        lim = half_skin2 if hs is None else half_skin2 * hs[i] * hs[i]
+        if not (dx * dx + dz * dz <= lim and _inside(x[i], z[i], xmin, xmax, zmin, zmax)):
             bad += 1
     return bad > 0

@@ -388,14 +388,15 @@ class Stepper:
         since the last sort, left the domain, or the particle set changed; refresh the inner
         lists when a particle has moved half their skin."""
         p, g, nl = self.parts, self.grid, self.nlist
-        # the skins of the finest pairs are the thinnest (lists scale with the pair's h)
-        half_skin = 0.5 * (self.list_radius - self.scales.support) * self.hs_min
+        # each level's skin scales with its h, as its lists do (moved_or_outside)
+        half_skin = 0.5 * (self.list_radius - self.scales.support)
+        hs = self._hs(p)
         self._rebuilt = False
         if self._listed is p and not moved_or_outside(p.x, p.z, p.x_sort, p.z_sort,
-                                                      half_skin * half_skin, *g.bounds):
-            half_inner = 0.5 * (self.inner_radius - self.scales.support) * self.hs_min
+                                                      half_skin * half_skin, *g.bounds, hs):
+            half_inner = 0.5 * (self.inner_radius - self.scales.support)
             if moved_or_outside(p.x, p.z, p.x_inner, p.z_inner, half_inner * half_inner,
-                                *g.bounds):
+                                *g.bounds, hs):
                 self._refresh_inner()
             return
         if self.variable:

@@ -32,6 +32,7 @@ from sph.engine.refinement import (
     spawn,
     wall_regions,
 )
+from sph.engine.shifting import shift_params
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
 
@@ -376,6 +377,49 @@ def test_a_ghost_pushes_and_never_pulls():
     assert accel_x(-2.0e5, GHOST) == 0.0
     push = accel_x(2.0e5, -1)
     assert push < -1.0 and accel_x(2.0e5, GHOST) == pytest.approx(push, rel=1e-12)
+
+
+def test_ghosts_neither_pack_nor_steer_the_shifting():
+    """Particle shifting spreads packed active particles; a ghost is fitted, not pushed, and
+    does not make way, so it counts neither in the kernel sum that gates the shift nor in
+    its gradient. A family made coarse inside a finer box sits among the ghosts of its
+    level (the finer families' mothers): counted, they had it shifted by the cap, a tenth of
+    its spacing, at every step (the refined Table I case 4 rebuilt its lists every 2-6
+    steps). A lattice with a packed 4 x 4 patch in its middle: patch active, the lattice
+    around it is shifted; patch of ghosts, nothing moves."""
+    n = 16
+    xs, zs = np.meshgrid((np.arange(n) + 0.5) * DX, (np.arange(n) + 0.5) * DX)
+    c = 0.5 * n * DX
+    px, pz = np.meshgrid(c + (np.arange(4) - 1.5) * DX, c + (np.arange(4) - 1.5) * DX)
+    x0 = np.concatenate([xs.ravel(), px.ravel() + 0.5 * DX])
+    z0 = np.concatenate([zs.ravel(), pz.ravel() + 0.5 * DX])
+    patch0 = np.arange(len(x0)) >= n * n
+    kp = kernel_params("gaussian", 1.23 * DX)
+    support = 3.0 * kp[1]
+    grid = CellGrid(-0.5, 2.1, -0.5, 2.1, support)
+    shift = shift_params(1.0, 0.2, 10.0, kp, DX)
+
+    def shifts(patch_body):
+        body0 = np.where(patch0, patch_body, -1).astype(np.int32)
+        x, z, body = sort_by_cells(grid, x0, z0, body0)
+        n_all = len(x)
+        kind = np.zeros(n_all, np.int32)
+        hs = np.ones(n_all)
+        rho = np.full(n_all, 1000.0)
+        m = rho * DX * DX
+        zero = np.zeros(n_all)
+        nlist = NeighbourList()
+        nlist.build(x, z, kind, grid, support, hs)
+        nlist.refresh(x, z, support, hs)
+        ax, az, drho, sx, sz = (np.zeros(n_all) for _ in range(5))
+        interact(x, z, zero, zero, rho, zero, m, kind, body, kind, hs, grid.cell_of,
+                 grid.cell_start, grid.ncx, kp, 0.0, 0.0, 0.0, 0.0, 0.0, zero, zero, ax, az,
+                 drho, no_opening(), fixed_kinematics(1), shift, sx, sz, pair_work(n_all),
+                 nlist.start, nlist.inner, nlist.inner_end, True)
+        return np.hypot(sx, sz)[body == -1]
+
+    assert shifts(-1).max() > 0.01 * DX  # active and packed: spread
+    assert shifts(GHOST).max() == 0.0
 
 def _still(dx, boxes=None):
     over = [("numerics.dx", dx), ("geometry.depth", 0.6), ("geometry.tank_length", 1.0),

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sph.engine.neighbours import CellGrid, neighbour_count
+from sph.engine.neighbours import CellGrid, moved_or_outside, neighbour_count
 from sph.engine.particles import FLOAT_FIELDS, INT_FIELDS, WALL, Particles
 
 # (xmin, xmax, zmin, zmax, cell): a binary-exact grid and two with inexact decimals
@@ -341,3 +341,16 @@ def test_permute_by_cell_order_then_neighbours():
            for i in range(n)]
     np.testing.assert_array_equal(got, _brute_force_counts(parts.x, parts.z, r2))
 
+
+
+def test_each_level_moves_within_its_own_skin():
+    """Under variable resolution a particle's pairs are of its own level, listed at that
+    level's radius: its lists hold while it has moved less than half that level's skin."""
+    xs = np.zeros(2)
+    zs = np.zeros(2)
+    bounds = (-10.0, 10.0, -10.0, 10.0)
+    hs = np.array([1.0, 0.5])
+    # half skin 1 m at level 0, 0.5 m at level 1
+    assert not moved_or_outside(np.array([0.8, 0.4]), zs, xs, zs, 1.0, *bounds, hs)
+    assert moved_or_outside(np.array([0.8, 0.6]), zs, xs, zs, 1.0, *bounds, hs)
+    assert not moved_or_outside(np.array([0.8, 0.6]), zs, xs, zs, 1.0, *bounds)
