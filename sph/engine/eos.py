@@ -66,4 +66,3 @@ def cavitation_floor(rho, rho_old, kind, rho_min):
                 rho[i] = rho_min
             if rho_old[i] < rho_min:
                 rho_old[i] = rho_min
-

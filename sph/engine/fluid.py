@@ -309,6 +309,7 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             pj = pk[j, PK_P]
             mj = pk[j, PK_MFLUID]
             fluid = mj != 0.0
+            # numerics.wall_tension: max(pwall + pj, pfloor) against a wall particle
             psum = pi + pj if fluid else max(pwall + pj, pfloor)
             counted = pair  # in the kernel sum (shifting's gate): not a ghost
             if ghosts and mj < 0.0:  # a ghost: pushes and never pulls
@@ -319,7 +320,6 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             rhoj = pk[j, PK_RHO]
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
             div += vj * vr * fw
-            # numerics.wall_tension: max(pwall + pj, pfloor) against a wall particle
             coef = -psum * vj * inv_rhoi
             coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
             accx += coef * fw * dx

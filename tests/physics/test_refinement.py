@@ -286,6 +286,31 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     np.testing.assert_allclose(rho[fitted], hydro[fitted], rtol=0, atol=1e-9 * 1000.0)
 
 
+def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=None):
+    """One call of the list loops (:func:`interact`) and one of the general loop
+    (:func:`interact_reference`) on fluid particles sorted by ``grid``: each returns
+    ``ax, az, drho, sx, sz``."""
+    n = len(x)
+    kind = np.zeros(n, np.int32)
+    support = 3.0 * kp[1]
+    nlist = NeighbourList()
+    nlist.build(x, z, kind, grid, support, hs)
+    nlist.refresh(x, z, support, hs)
+    shift = np.zeros(3) if shift is None else shift
+    out = []
+    for general in (False, True):
+        res = [np.zeros(n) for _ in range(5)]
+        args = (x, z, vx, vz, rho, pres, m, kind, body, kind, hs, grid.cell_of,
+                grid.cell_start, grid.ncx, kp, visc, 0.0, 0.0, 0.0, 0.0, x, x, *res[:3],
+                no_opening(), fixed_kinematics(1), shift, *res[3:])
+        if general:
+            interact_reference(*args)
+        else:
+            interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True)
+        out.append(res)
+    return out
+
+
 def test_levels_do_not_interact():
     """The active particles of a level feel only their own level: the accelerations of the
     fine particles do not change when the coarse ghosts inside their box change."""
@@ -296,36 +321,22 @@ def test_levels_do_not_interact():
     grid = CellGrid(-0.5, 2.1, -0.5, 1.3, support)
     x, z, vx, vz, rho, m, hs, body = sort_by_cells(grid, q.x, q.z, q.vx, q.vz, q.rho, q.m,
                                                    q.hs, q.body)
-    n = len(x)
-    kind = np.zeros(n, np.int32)
-    nlist = NeighbourList()
-    nlist.build(x, z, kind, grid, support, hs)
-    nlist.refresh(x, z, support, hs)
+    visc = 2 * 0.02 * kp[1] * 30.0
 
-    def accel(rho):
-        pres = 30.0**2 * (rho - 1000.0)
-        ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
-        interact(x, z, vx, vz, rho, pres, m, kind, body, kind, hs, grid.cell_of,
-                 grid.cell_start, grid.ncx, kp, 2 * 0.02 * kp[1] * 30.0, 0.0, 0.0, 0.0, 0.0,
-                 x, x, ax, az, drho, no_opening(), fixed_kinematics(1), np.zeros(3), sx, sz,
-                 pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True)
-        return ax, az, drho
+    def loops(rho):
+        return _pair_loops(x, z, vx, vz, rho, 30.0**2 * (rho - 1000.0), m, body, hs, grid,
+                           kp, visc)
 
-    before = accel(rho)
+    listed, ref = loops(rho)
+    before = listed[:3]
     # the list loops, each at its particle's own level, are the general loop's sums
-    pres = 30.0**2 * (rho - 1000.0)
-    ref = [np.zeros(n) for _ in range(5)]
-    interact_reference(x, z, vx, vz, rho, pres, m, kind, body, kind, hs, grid.cell_of,
-                       grid.cell_start, grid.ncx, kp, 2 * 0.02 * kp[1] * 30.0, 0.0, 0.0, 0.0,
-                       0.0, x, x, *ref[:3], no_opening(), fixed_kinematics(1), np.zeros(3),
-                       *ref[3:])
     active = body != GHOST
     for u, v in zip(before, ref[:3], strict=True):
         np.testing.assert_allclose(u[active], v[active], rtol=1e-12,
                                    atol=1e-12 * np.abs(v).max())
     coarse_ghost = (body == GHOST) & (levels(hs) == 0)
     assert coarse_ghost.sum() > 0
-    after = accel(np.where(coarse_ghost, rho + 5.0, rho))
+    after = loops(np.where(coarse_ghost, rho + 5.0, rho))[0][:3]
     fine = (levels(hs) == 1) & (body != GHOST)
     for u, v in zip(before, after, strict=True):
         np.testing.assert_array_equal(u[fine], v[fine])
@@ -343,7 +354,6 @@ def test_a_ghost_pushes_and_never_pulls():
     support = 3.0 * kp[1]
     grid = CellGrid(-0.5, 0.5, -0.5, 0.5, support)
     n = 2
-    kind = np.zeros(n, np.int32)
     hs = np.ones(n)
     m = np.full(n, 1000.0 * DX * DX)
     rho = np.full(n, 990.0)
@@ -353,22 +363,9 @@ def test_a_ghost_pushes_and_never_pulls():
         x, z = np.array([0.0, 0.5 * DX]), np.zeros(n)
         body = np.array([-1, neighbour], np.int32)
         x, z, b = sort_by_cells(grid, x, z, body)
-        nlist = NeighbourList()
-        nlist.build(x, z, kind, grid, support, hs)
-        nlist.refresh(x, z, support, hs)
-        pres = np.full(n, pressure)
-        out = []
-        for general in (False, True):
-            ax, az, drho, sx, sz = (np.zeros(n) for _ in range(5))
-            args = (x, z, zero, zero, rho, pres, m, kind, b, kind, hs, grid.cell_of,
-                    grid.cell_start, grid.ncx, kp, 0.0, 0.0, 0.0, 0.0, 0.0, zero, zero,
-                    ax, az, drho, no_opening(), fixed_kinematics(1), np.zeros(3), sx, sz)
-            if general:
-                interact_reference(*args)
-            else:
-                interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end,
-                         True)
-            out.append(ax[b == -1][0])
+        listed, ref = _pair_loops(x, z, zero, zero, rho, np.full(n, pressure), m, b, hs, grid,
+                                  kp)
+        out = [res[0][b == -1][0] for res in (listed, ref)]
         assert out[0] == pytest.approx(out[1], rel=1e-12, abs=1e-12)
         return out[0]
 
@@ -403,20 +400,11 @@ def test_ghosts_neither_pack_nor_steer_the_shifting():
         body0 = np.where(patch0, patch_body, -1).astype(np.int32)
         x, z, body = sort_by_cells(grid, x0, z0, body0)
         n_all = len(x)
-        kind = np.zeros(n_all, np.int32)
-        hs = np.ones(n_all)
         rho = np.full(n_all, 1000.0)
-        m = rho * DX * DX
         zero = np.zeros(n_all)
-        nlist = NeighbourList()
-        nlist.build(x, z, kind, grid, support, hs)
-        nlist.refresh(x, z, support, hs)
-        ax, az, drho, sx, sz = (np.zeros(n_all) for _ in range(5))
-        interact(x, z, zero, zero, rho, zero, m, kind, body, kind, hs, grid.cell_of,
-                 grid.cell_start, grid.ncx, kp, 0.0, 0.0, 0.0, 0.0, 0.0, zero, zero, ax, az,
-                 drho, no_opening(), fixed_kinematics(1), shift, sx, sz, pair_work(n_all),
-                 nlist.start, nlist.inner, nlist.inner_end, True)
-        return np.hypot(sx, sz)[body == -1]
+        listed, _ = _pair_loops(x, z, zero, zero, rho, zero, rho * DX * DX, body,
+                                np.ones(n_all), grid, kp, shift=shift)
+        return np.hypot(listed[3], listed[4])[body == -1]
 
     assert shifts(-1).max() > 0.01 * DX  # active and packed: spread
     assert shifts(GHOST).max() == 0.0
