@@ -79,18 +79,30 @@ from sph.engine.surface import CLAMP, wall_pair_terms
 
 
 @njit(inline="always", **JIT)
+def _weight(gw, body, j):
+    """The weight particle ``j`` acts with: that of a ghost where the ghosts' weights ``gw``
+    are given (:func:`sph.engine.refinement.ghost_fields`), 1 otherwise."""
+    if gw is None:
+        return 1.0
+    return gw[j] if body[j] == GHOST else 1.0
+
+
+@njit(inline="always", **JIT)
 def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, ghost,
-                  grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor):
+                  grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor,
+                  wj=1.0):
     """What particle ``j`` within the support adds to the sums of a fluid particle
     ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
     as :func:`_sums_general` returns them. ``s``: the pair's smoothing length over the
     case's (:func:`sph.engine.kernels.pair_scale`; 1 at uniform resolution, where every
     value is that of ``s = 1`` to the last bit); the viscosity, its regularisation ``eps2``
     and the diffusive term scale with it as with ``h``. Against a wall particle the pressure
-    sum is ``max(pwall + P_j, pfloor)`` (:func:`sph.engine.surface.wall_pair_terms`)."""
+    sum is ``max(pwall + P_j, pfloor)`` (:func:`sph.engine.surface.wall_pair_terms`).
+    ``wj``: the weight of a ghost ``j`` (:func:`_weight`), which scales its mass."""
     fw, w = fw_scaled(r2, kp, s)
     rhoj = rho[j]
-    vj = m[j] / rhoj
+    mj = m[j] * wj
+    vj = mj / rhoj
     dvx = vxi - vx[j]
     dvz = vzi - vz[j]
     vr = dvx * dx + dvz * dz
@@ -99,8 +111,8 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
         psum = pi + p[j]
         if ghost and psum < 0.0:  # a ghost pushes, never pulls (sph.engine.refinement)
             psum = 0.0
-        coef = -m[j] * psum / (rhoi * rhoj)
-        coef += s * visc_coef * m[j] / (rhoi + rhoj) * vr / (r2 + s * s * eps2)
+        coef = -mj * psum / (rhoi * rhoj)
+        coef += s * visc_coef * mj / (rhoi + rhoj) * vr / (r2 + s * s * eps2)
         if ddt_rho != 0.0:
             rho_h = -ddt_rho * (gx * dx + gz * dz)
             diff = -2.0 * s * vj * fw * (rhoj - rhoi - rho_h)
@@ -108,7 +120,7 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
             diff = s * vj * fw * (-2.0 * (rhoj - rhoi)
                                   - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
     else:  # numerics.wall_tension: by default a wall pushes and never pulls
-        coef = -m[j] * max(pwall + p[j], pfloor) / (rhoi * rhoj)
+        coef = -mj * max(pwall + p[j], pfloor) / (rhoi * rhoj)
     return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
             0.0 if ghost else vj * w)
 
@@ -116,7 +128,7 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
 @njit(**JIT)
 def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                   ncx, kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
-                  start, inner, inner_end, pwall, pfloor):
+                  start, inner, inner_end, pwall, pfloor, gw=None):
     """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
     through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
     shep)``: the pair accelerations, the velocity divergence sum, the diffusive sum and the
@@ -165,7 +177,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
                               kind, body[j] == GHOST, grx, grz, kp, visc_coef, eps2, gx, gz,
-                              ddt_rho, use_delta, s, pwall, pfloor)
+                              ddt_rho, use_delta, s, pwall, pfloor, _weight(gw, body, j))
             accx += t[0]
             accz += t[1]
             div += t[2]
@@ -176,7 +188,7 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
 
 @njit(**JIT)
 def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, gx, gz,
-                   ddt_rho, op, kin, start, inner, inner_end, s, pwall, pfloor):
+                   ddt_rho, op, kin, start, inner, inner_end, s, pwall, pfloor, gw=None):
     """What the damage opening changes in the sums of fluid particle ``i`` (near the open
     opening) over those of its own compartment that the list loops take
     (:func:`_list_sums`): plus the fluid of another compartment seen through the opening
@@ -210,7 +222,7 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
                           p, m, kind, body[j] == GHOST, rho, rho, kp, visc_coef, eps2, gx, gz,
-                          ddt_rho, False, s, pwall, pfloor)
+                          ddt_rho, False, s, pwall, pfloor, _weight(gw, body, j))
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -230,11 +242,12 @@ def pair_work(n: int) -> np.ndarray:
 
 
 @njit(**JIT_PARALLEL_PAIR)
-def pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk):
+def pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw=None):
     """Copy what a pair reads of its neighbour into one row per particle, 64 bytes: position,
     velocity, density, pressure, volume ``m / rho`` and the mass of a fluid particle (0 for
     a wall particle). A pair then loads one cache line instead of one from each of nine
-    arrays: the list loops took about 0.88 times as long on the damaged ship."""
+    arrays: the list loops took about 0.88 times as long on the damaged ship. A ghost's
+    volume and mass are scaled by its weight (``gw``, :func:`_weight`)."""
     for j in prange(x.shape[0]):
         pk[j, PK_X] = x[j]
         pk[j, PK_Z] = z[j]
@@ -242,11 +255,12 @@ def pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk):
         pk[j, PK_VZ] = vz[j]
         pk[j, PK_RHO] = rho[j]
         pk[j, PK_P] = p[j]
-        pk[j, PK_VOL] = m[j] / rho[j]
-        if kind[j] != FLUID:
+        wj = _weight(gw, body, j)
+        pk[j, PK_VOL] = wj * m[j] / rho[j]
+        if kind[j] != FLUID or wj == 0.0:  # a ghost of weight 0 adds nothing
             pk[j, PK_MFLUID] = 0.0
         else:  # a ghost's mass is stored negated: it pushes and never pulls
-            pk[j, PK_MFLUID] = -m[j] if body[j] == GHOST else m[j]
+            pk[j, PK_MFLUID] = -wj * m[j] if body[j] == GHOST else m[j]
 
 
 def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
@@ -369,7 +383,8 @@ _sums_variable = _list_loop(ghosts=True)
 @njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, pk, start, inner, inner_end, variable, tension=CLAMP, surf=None):
+             sx, sz, pk, start, inner, inner_end, variable, tension=CLAMP, surf=None,
+             gw=None):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
@@ -414,9 +429,13 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     surf : bool array or None
         The free-surface flags (:func:`sph.engine.surface.free_surface`) under
         ``FREE_SURFACE``; None otherwise.
+    gw : array or None
+        Under variable resolution, the weight each ghost acts with
+        (:func:`sph.engine.refinement.ghost_fields`): its mass and volume in every pair are
+        scaled by it. None: every ghost acts fully.
     """
     n = x.shape[0]
-    pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk)
+    pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw)
     use_delta = delta_coef != 0.0
     # the renormalised term needs grx, grz
     general = use_delta and ddt_rho == 0.0
@@ -432,7 +451,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             accx, accz, div, diff, shep = _sums_general(
                 i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx,
                 kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
-                inner, inner_end, pwall, pfloor)
+                inner, inner_end, pwall, pfloor, gw)
         else:
             k0 = start[i]
             k1 = inner_end[i]
@@ -449,7 +468,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
-                                   inner_end, s, pwall, pfloor)
+                                   inner_end, s, pwall, pfloor, gw)
                 accx += t[0]
                 accz += t[1]
                 div += t[2]
@@ -462,7 +481,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
 @njit(**JIT_PARALLEL)
 def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                        ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho,
-                       op, kin, shift, sx, sz, tension=CLAMP, surf=None):
+                       op, kin, shift, sx, sz, tension=CLAMP, surf=None, gw=None):
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
@@ -473,7 +492,7 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, c
         accx, accz, div, diff, shep = _sums_general(
             i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
             visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
-            cell_of, cell_start, pwall, pfloor)
+            cell_of, cell_start, pwall, pfloor, gw)
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 

@@ -321,6 +321,8 @@ class Stepper:
         self._grz = np.zeros(n)
         self._rho_buf = np.zeros(n)
         self._pk = pair_work(n)
+        # the weight each ghost acts with, fitted with it (ghost_fields)
+        self._gw = np.ones(n) if self.variable else None
         need = self.tension == FREE_SURFACE
         self._lam = np.ones(n) if need else None
         self._surf = np.zeros(n, dtype=np.bool_) if need else None
@@ -345,7 +347,7 @@ class Stepper:
         if self.variable:
             ghost_fields(p.x, p.z, p.vx, p.vz, p.rho, p.vx_old, p.vz_old, p.rho_old, p.m,
                          p.kind, p.body, p.comp, p.hs, *self._sources, self.kp, self.op,
-                         self.kin, self._reach, self._rebuilt, self._grad_rho())
+                         self.kin, self._reach, self._rebuilt, self._grad_rho(), self._gw)
         if self._rho_floor:
             cavitation_floor(p.rho, p.rho_old, p.kind, self._rho_floor)
         fluid_pressures(p.rho, p.kind, p.p, fl.rho0, self.b, fl.gamma)
@@ -367,7 +369,7 @@ class Stepper:
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
-                 self._surf)
+                 self._surf, self._gw)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity
