@@ -52,7 +52,7 @@ def _workflow_copy(tmp: Path) -> Path:
     work = tmp / "wf"
     work.mkdir()
     shutil.copy(ROOT / "Snakefile", work)
-    for d in ("config", "workflow", ".test"):
+    for d in ("config", "workflow", "profiles", ".test"):
         shutil.copytree(ROOT / d, work / d, ignore=shutil.ignore_patterns("__pycache__"))
     return work
 
@@ -334,3 +334,23 @@ def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
                           "--no-progress"], env=_env(tmp_path), capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     assert_same_series(read_dataset(work / target), read_dataset(ref))
+
+
+def test_a_case_that_blows_up_keeps_what_it_wrote(tmp_path):
+    """A run that blows up stops with the step, time and cause and writes its output up to
+    that moment (exit status 3); the workflow keeps it (the default profile's
+    ``keep-incomplete``: snakemake otherwise deletes a failed job's output as possibly
+    corrupt). The default profile is the one Snakemake finds by itself."""
+    work = _workflow_copy(tmp_path)
+    sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
+    # the hydrostatic density at the tank floor is above this at once
+    sweep["set"] = {"run.density_max": 1.0001}
+    (work / ".test" / "blow.yaml").write_text(yaml.safe_dump(sweep))
+    target = "results/test/cases/case1.nc"
+    res = _snakemake(work, target, "--cores", "1", "--configfile", ".test/blow.yaml")
+    assert res.returncode != 0
+    assert "workflow specific profile profiles/default" in res.stdout + res.stderr
+    log = (work / "results/test/logs/simulate/case1.log").read_text()
+    assert "error: simulation stopped at step" in log and "left the band" in log, log
+    ds = read_dataset(work / target)
+    assert ds.sizes["time"] >= 1
