@@ -1,15 +1,14 @@
 """Still water across refinement levels (slow): a tank 1 m long and 1 m deep at dx = 0.1 m
 with one box of level 1 (two levels) or a box of level 2 inside it (three levels, dx down to
 0.025 m), settled for 60 s. Run with
-``python -m pytest -m slow tests/physics/test_refinement_still.py`` (about 5 and 20
-minutes on one core).
+``python -m pytest -m slow tests/physics/test_refinement_still.py`` (about 4 minutes on
+one core).
 
-What holds: the largest speed of the mass-carrying particles is below 0.5 % of sqrt(g H)
-and the active mass is constant to 1e-12; with two levels the particles per level do not
-change and the bottom pressure is within 1 % of rho g H (1.008 at 60 s; the uniform tank
-reads 1.005). What does not hold yet (strict xfail, measured 2026-11-27): with three levels
-the bottom pressure creeps up (1.015-1.017 of rho g H at 30 s) and one family changes level
-between 30 and 60 s (docs/validation/refinement.md).
+What holds: the largest speed of the mass-carrying particles is below 0.5 % of sqrt(g H),
+the active mass is constant to 1e-12 and the particles per level do not change; with two
+levels the bottom pressure is within 1 % of rho g H (1.008 at 60 s; the uniform tank reads
+1.005). What does not hold yet (strict xfail, measured 2026-11-27): with three levels the
+bottom pressure creeps up (1.015-1.017 of rho g H at 30 s; docs/validation/refinement.md).
 """
 import math
 
@@ -60,12 +59,9 @@ def test_still_water_across_levels_settles_and_keeps_its_mass(settled):
 
 
 @pytest.mark.slow
-def test_still_water_across_levels_keeps_its_counts_per_level(settled, request):
+def test_still_water_across_levels_keeps_its_counts_per_level(settled):
     """No family changes level in still water (the hysteresis at the box edges)."""
     levels, sim, start = settled
-    _expect_failure_with_three_levels(
-        request, levels, "one family changes level between 30 and 60 s (60 / 80 / 320 -> "
-        "59 / 84 / 320; docs/validation/refinement.md)")
     np.testing.assert_array_equal(level_counts(sim.parts, levels - 1), start["counts"])
 
 
