@@ -75,6 +75,11 @@ class Numerics:
         doc="lowest fluid pressure (gauge); null = none. -1.0e5: water cavitates about one "
             "atmosphere below the ambient pressure, and SPH fluid held in a larger tension "
             "clumps and jets (docs/model.md)")
+    wall_damping: bool = spec(
+        False, doc="damp the fluid's approach to a wall along the wall's normal with the "
+                   "artificial viscosity (the flow along it stays free-slip): a lone particle "
+                   "then strikes a wall inelastically, as a drop does, and is not pumped up "
+                   "by a moving wall (docs/model.md)")
     wall_layers: int = spec(0, lo=0, hi=20,
                             doc="layers of dummy particles; 0 = enough to cover the support")
     threads: int = spec(0, lo=0, hi=1024, doc="numba threads; 0 = NUMBA_NUM_THREADS")

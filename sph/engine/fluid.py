@@ -90,7 +90,7 @@ def _weight(gw, body, j):
 @njit(inline="always", **JIT)
 def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m, kind, ghost,
                   grx, grz, kp, visc_coef, eps2, gx, gz, ddt_rho, use_delta, s, pwall, pfloor,
-                  wj=1.0):
+                  jw):
     """What particle ``j`` within the support adds to the sums of a fluid particle
     ``(vxi, vzi, rhoi, pi)`` at ``(dx, dz)`` from it: ``(acc_x, acc_z, div, diff, shep)``
     as :func:`_sums_general` returns them. ``s``: the pair's smoothing length over the
@@ -98,10 +98,14 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
     value is that of ``s = 1`` to the last bit); the viscosity, its regularisation ``eps2``
     and the diffusive term scale with it as with ``h``. Against a wall particle the pressure
     sum is ``max(pwall + P_j, pfloor)`` (:func:`sph.engine.surface.wall_pair_terms`).
-    ``wj``: the weight of a ghost ``j`` (:func:`_weight`), which scales its mass."""
+    ``jw = (w_j, n_x, n_z)``: the weight of a ghost ``j`` (:func:`_weight`), which scales its
+    mass, and the unit vector from the fluid particle towards its walls under
+    ``numerics.wall_damping`` (:func:`sph.engine.walls.wall_normals`; 0 otherwise): its
+    approach along it is damped by the artificial viscosity."""
     fw, w = fw_scaled(r2, kp, s)
     rhoj = rho[j]
-    mj = m[j] * wj
+    mj = m[j] * jw[0]
+    nx, nz = jw[1], jw[2]
     vj = mj / rhoj
     dvx = vxi - vx[j]
     dvz = vzi - vz[j]
@@ -121,6 +125,10 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
                                   - ((gxi + grx[j]) * dx + (gzi + grz[j]) * dz))
     else:  # numerics.wall_tension: by default a wall pushes and never pulls
         coef = -mj * max(pwall + p[j], pfloor) / (rhoi * rhoj)
+        vn = dvx * nx + dvz * nz  # numerics.wall_damping: closing in along the normal
+        if vn > 0.0:
+            coef += (s * visc_coef * mj / (rhoi + rhoj) * vn * (dx * nx + dz * nz)
+                     / (r2 + s * s * eps2))
     return (coef * fw * dx, coef * fw * dz, vj * vr * fw, diff,
             0.0 if ghost else vj * w)
 
@@ -128,7 +136,7 @@ def _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m
 @njit(**JIT)
 def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                   ncx, kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, listed,
-                  start, inner, inner_end, pwall, pfloor, gw=None):
+                  start, inner, inner_end, pwall, pfloor, gw=None, nxi=0.0, nzi=0.0):
     """Pair sums of fluid particle ``i`` with every rule: compartments, the line of sight
     through an open damage opening, hidden wall layers. Returns ``(acc_x, acc_z, div, diff,
     shep)``: the pair accelerations, the velocity divergence sum, the diffusive sum and the
@@ -177,7 +185,8 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
                               kind, body[j] == GHOST, grx, grz, kp, visc_coef, eps2, gx, gz,
-                              ddt_rho, use_delta, s, pwall, pfloor, _weight(gw, body, j))
+                              ddt_rho, use_delta, s, pwall, pfloor,
+                              (_weight(gw, body, j), nxi, nzi))
             accx += t[0]
             accz += t[1]
             div += t[2]
@@ -188,7 +197,8 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
 
 @njit(**JIT)
 def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, gx, gz,
-                   ddt_rho, op, kin, start, inner, inner_end, s, pwall, pfloor, gw=None):
+                   ddt_rho, op, kin, start, inner, inner_end, s, pwall, pfloor, gw=None,
+                   nxi=0.0, nzi=0.0):
     """What the damage opening changes in the sums of fluid particle ``i`` (near the open
     opening) over those of its own compartment that the list loops take
     (:func:`_list_sums`): plus the fluid of another compartment seen through the opening
@@ -222,7 +232,7 @@ def _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp, visc_coef, 
             sign = -1.0
         t = _pair_general(j, dx, dz, r2, vx[i], vz[i], rho[i], p[i], 0.0, 0.0, vx, vz, rho,
                           p, m, kind, body[j] == GHOST, rho, rho, kp, visc_coef, eps2, gx, gz,
-                          ddt_rho, False, s, pwall, pfloor, _weight(gw, body, j))
+                          ddt_rho, False, s, pwall, pfloor, (_weight(gw, body, j), nxi, nzi))
         accx += sign * t[0]
         accz += sign * t[1]
         div += sign * t[2]
@@ -284,7 +294,7 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
     """
 
     @njit(inline="always", **JIT_PAIR)
-    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor):
+    def sums(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor, nxi, nzi):
         h2 = kp[KP_H] * kp[KP_H] * s * s
         r2max = kp[KP_R2MAX] * s * s
         eps2 = 1.0e-4 * h2
@@ -336,6 +346,11 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             div += vj * vr * fw
             coef = -psum * vj * inv_rhoi
             coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
+            if not fluid:  # numerics.wall_damping (nxi = nzi = 0 without it)
+                vn = (vxi - pk[j, PK_VX]) * nxi + (vzi - pk[j, PK_VZ]) * nzi
+                if vn > 0.0:
+                    coef += (visc * vj * rhoj * vn * (dx * nxi + dz * nzi)
+                             / ((rhoi + rhoj) * (r2 + eps2)))
             accx += coef * fw * dx
             accz += coef * fw * dz
             if diffusion:
@@ -362,16 +377,18 @@ def _list_loop(ghosts: bool):
 
     @njit(inline="always", **JIT_PAIR)
     def sums(gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-             pwall, pfloor):
+             pwall, pfloor, nxi, nzi):
         if gaussian and diffusion:
             return gauss_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
-                              pfloor)
+                              pfloor, nxi, nzi)
         if gaussian:
-            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor,
+                         nxi, nzi)
         if diffusion:
             return wend_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
-                             pfloor)
-        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor)
+                             pfloor, nxi, nzi)
+        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor, nxi,
+                    nzi)
 
     return sums
 
@@ -384,7 +401,7 @@ _sums_variable = _list_loop(ghosts=True)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
              sx, sz, pk, start, inner, inner_end, variable, tension=CLAMP, surf=None,
-             gw=None):
+             gw=None, wnx=None, wnz=None):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
@@ -433,6 +450,10 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         Under variable resolution, the weight each ghost acts with
         (:func:`sph.engine.refinement.ghost_fields`): its mass and volume in every pair are
         scaled by it. None: every ghost acts fully.
+    wnx, wnz : arrays or None
+        Under ``numerics.wall_damping``, the unit vector from each fluid particle towards
+        its walls (:func:`sph.engine.walls.wall_normals`): the artificial viscosity damps
+        its approach along it, the flow along the wall is left free. None: no damping.
     """
     n = x.shape[0]
     pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw)
@@ -447,11 +468,13 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         if kind[i] != FLUID or body[i] == GHOST:  # a ghost's rates are not used
             continue
         pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
+        nxi = 0.0 if wnx is None else wnx[i]
+        nzi = 0.0 if wnz is None else wnz[i]
         if general:
             accx, accz, div, diff, shep = _sums_general(
                 i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx,
                 kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
-                inner, inner_end, pwall, pfloor, gw)
+                inner, inner_end, pwall, pfloor, gw, nxi, nzi)
         else:
             k0 = start[i]
             k1 = inner_end[i]
@@ -460,15 +483,15 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             if variable:
                 accx, accz, div, diff, shep = _sums_variable(
                     gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor)
+                    pwall, pfloor, nxi, nzi)
             else:
                 accx, accz, div, diff, shep = _sums_uniform(
                     gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor)
+                    pwall, pfloor, nxi, nzi)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
-                                   inner_end, s, pwall, pfloor, gw)
+                                   inner_end, s, pwall, pfloor, gw, nxi, nzi)
                 accx += t[0]
                 accz += t[1]
                 div += t[2]
@@ -481,7 +504,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
 @njit(**JIT_PARALLEL)
 def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                        ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho,
-                       op, kin, shift, sx, sz, tension=CLAMP, surf=None, gw=None):
+                       op, kin, shift, sx, sz, tension=CLAMP, surf=None, gw=None, wnx=None,
+                       wnz=None):
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
@@ -489,10 +513,12 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, c
         if kind[i] != FLUID:
             continue
         pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
+        nxi = 0.0 if wnx is None else wnx[i]
+        nzi = 0.0 if wnz is None else wnz[i]
         accx, accz, div, diff, shep = _sums_general(
             i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
             visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
-            cell_of, cell_start, pwall, pfloor, gw)
+            cell_of, cell_start, pwall, pfloor, gw, nxi, nzi)
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
                 cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
 

@@ -56,7 +56,13 @@ from sph.engine.refinement import (
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
 from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
-from sph.engine.walls import fixed_kinematics, place_walls, wall_forces, wall_pressure
+from sph.engine.walls import (
+    fixed_kinematics,
+    place_walls,
+    wall_forces,
+    wall_normals,
+    wall_pressure,
+)
 
 log = logging.getLogger(__name__)
 
@@ -323,6 +329,10 @@ class Stepper:
         self._pk = pair_work(n)
         # the weight each ghost acts with, fitted with it (ghost_fields)
         self._gw = np.ones(n) if self.variable else None
+        # numerics.wall_damping: each fluid particle's direction towards its walls
+        damp = self.cfg.numerics.wall_damping
+        self._wnx = np.zeros(n) if damp else None
+        self._wnz = np.zeros(n) if damp else None
         need = self.tension == FREE_SURFACE
         self._lam = np.ones(n) if need else None
         self._surf = np.zeros(n, dtype=np.bool_) if need else None
@@ -356,6 +366,10 @@ class Stepper:
                       self.gz, self.kin, fl.rho0, self.b, fl.gamma, self.cfg.numerics.dx**2,
                       self.op, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
                       self.tension != NONE, self._wall_reach())
+        if self._wnx is not None:
+            wall_normals(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
+                         self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
+                         self._wnx, self._wnz)
         if self._surf is not None:
             free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
@@ -369,7 +383,7 @@ class Stepper:
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
-                 self._surf, self._gw)
+                 self._surf, self._gw, self._wnx, self._wnz)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity

@@ -29,8 +29,8 @@ from numba import prange
 from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
-from sph.engine.opening import OP_GROUP, near_opening, wall_hidden
-from sph.engine.particles import GHOST, WALL
+from sph.engine.opening import OP_GROUP, near_opening, sees, wall_hidden
+from sph.engine.particles import FLUID, GHOST, WALL
 from sph.engine.surface import CLAMP, wall_pair_terms
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
@@ -203,3 +203,46 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
             fx[b] += pf[i, 0]
             fz[b] += pf[i, 1]
             mom[b] += pf[i, 2]
+
+
+@njit(**JIT_PARALLEL)
+def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, inner_end,
+                 nx, nz):
+    r"""The unit vector from each active fluid particle towards the walls it sees,
+    :math:`\mathbf{n}_i \propto \sum_w V_w \nabla_i W_{iw}` over the wall particles of its
+    inner list within the support that the pair rule lets it see
+    (:func:`sph.engine.opening.sees`: its compartment, not hidden by an open damage
+    opening), with their volumes ``m / rho`` (:func:`wall_pressure` sets them); ``(0, 0)``
+    with no wall in reach. ``numerics.wall_damping`` damps the approach along it
+    (:func:`sph.engine.fluid.interact`). Call after :func:`wall_pressure`."""
+    r2max = kp[KP_R2MAX]
+    for i in prange(x.shape[0]):
+        nx[i] = 0.0
+        nz[i] = 0.0
+        if kind[i] != FLUID or body[i] == GHOST:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        sx = 0.0
+        sz = 0.0
+        for k in range(start[i], inner_end[i]):
+            j = inner[k]
+            if kind[j] != WALL:
+                continue
+            dx = xi - x[j]
+            dz = zi - z[j]
+            r2 = dx * dx + dz * dz
+            s = pair_scale(hs, i, j)
+            if r2 >= r2max * s * s:
+                continue
+            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+                continue
+            # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j
+            a = f_scaled(r2, kp, s) * m[j] / rho[j]
+            sx += a * dx
+            sz += a * dz
+        norm = math.sqrt(sx * sx + sz * sz)
+        if norm > 0.0:
+            nx[i] = sx / norm
+            nz[i] = sz / norm
