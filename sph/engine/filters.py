@@ -29,7 +29,7 @@ from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
-from sph.engine.opening import passable, sees
+from sph.engine.opening import in_sight, passable
 from sph.engine.particles import FLUID
 
 
@@ -66,13 +66,9 @@ def mls_density(x, z, rho, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                s = pair_scale(hs, i, j)
-                if r2 >= r2max * s * s:
-                    continue
-                if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+                ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                             r2max, op, kin)
+                if not ok:
                     continue
                 w = w_scaled(r2, kp, s)
                 mw = m[j] * w

@@ -49,6 +49,7 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
+from sph.engine.kernels import pair_scale
 from sph.engine.particles import FLUID
 
 # slots of ``op`` (module docstring)
@@ -274,6 +275,21 @@ def sees(xi, zi, ci, xj, zj, kj, bj, cj, op, kin):
     if kj == FLUID:
         return cj == ci or passable(xi, zi, xj, zj, ci, cj, op, kin)
     return cj == ci and not wall_hidden(xi, zi, xj, zj, bj, op, kin)
+
+
+@njit(inline="always", **JIT)
+def in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin):
+    """Whether particle ``j`` counts for fluid particle ``i`` at ``(xi, zi)`` (compartment
+    ``ci``): within the support of the pair's smoothing length
+    (:func:`sph.engine.kernels.pair_scale`) and seen by the pair rule (:func:`sees`).
+    Returns it with the pair's ``dx, dz, r2`` and smoothing length ratio ``s``."""
+    dx = xi - x[j]
+    dz = zi - z[j]
+    r2 = dx * dx + dz * dz
+    s = pair_scale(hs, i, j)
+    ok = r2 < r2max * s * s and sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op,
+                                     kin)
+    return ok, dx, dz, r2, s
 
 
 @njit(**JIT)

@@ -64,7 +64,7 @@ from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, pair_scale
-from sph.engine.opening import sees
+from sph.engine.opening import in_sight, sees
 from sph.engine.particles import FLUID
 
 #: smallest eigenvalue of the renormalisation matrix at or below which a particle is at the
@@ -128,13 +128,9 @@ def free_surface(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, 
         gz = 0.0
         for k in range(start[i], inner_end[i]):
             j = inner[k]
-            dx = xi - x[j]
-            dz = zi - z[j]
-            r2 = dx * dx + dz * dz
-            s = pair_scale(hs, i, j)
-            if r2 >= r2max * s * s or j == i:
-                continue
-            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                         op, kin)
+            if j == i or not ok:
                 continue
             fw, _ = fw_scaled(r2, kp, s)
             a = fw * m[j] / rho[j]  # grad_i W_ij V_j = a (r_i - r_j)

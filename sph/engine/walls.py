@@ -29,7 +29,7 @@ from numba import prange
 from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
-from sph.engine.opening import OP_GROUP, near_opening, sees, wall_hidden
+from sph.engine.opening import OP_GROUP, in_sight, near_opening, wall_hidden
 from sph.engine.particles import FLUID, GHOST, WALL
 from sph.engine.surface import CLAMP, wall_pair_terms
 
@@ -230,13 +230,9 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, 
             j = inner[k]
             if kind[j] != WALL:
                 continue
-            dx = xi - x[j]
-            dz = zi - z[j]
-            r2 = dx * dx + dz * dz
-            s = pair_scale(hs, i, j)
-            if r2 >= r2max * s * s:
-                continue
-            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                         op, kin)
+            if not ok:
                 continue
             # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j
             a = f_scaled(r2, kp, s) * m[j] / rho[j]
