@@ -69,10 +69,9 @@ from sph.engine.kernels import (
     KP_R2MAX,
     exp_neg,
     fw_scaled,
-    pair_scale,
     w_r2,
 )
-from sph.engine.opening import opening_circle, passable, sees, wall_hidden
+from sph.engine.opening import in_sight, opening_circle, passable, wall_hidden
 from sph.engine.particles import FLUID, GHOST
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
 from sph.engine.surface import CLAMP, wall_pair_terms
@@ -175,13 +174,9 @@ def _sums_general(i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cel
             hi = cell_start[row + 2]
         for k in range(lo, hi):
             j = np.int64(inner[k]) if listed else k
-            dx = xi - x[j]
-            dz = zi - z[j]
-            r2 = dx * dx + dz * dz
-            s = pair_scale(hs, i, j)
-            if r2 >= r2max * s * s or j == i:
-                continue
-            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                         op, kin)
+            if j == i or not ok:
                 continue
             t = _pair_general(j, dx, dz, r2, vxi, vzi, rhoi, pi, gxi, gzi, vx, vz, rho, p, m,
                               kind, body[j] == GHOST, grx, grz, kp, visc_coef, eps2, gx, gz,
@@ -317,6 +312,7 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
         div = 0.0
         diff = 0.0
         shep = 0.0
+        damp = nxi != 0.0 or nzi != 0.0  # numerics.wall_damping, and walls in reach
         for k in range(k0, k1):
             j = inner[k]
             dx = xi - pk[j, PK_X]
@@ -346,7 +342,7 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             div += vj * vr * fw
             coef = -psum * vj * inv_rhoi
             coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
-            if not fluid:  # numerics.wall_damping (nxi = nzi = 0 without it)
+            if damp and not fluid:  # numerics.wall_damping
                 vn = (vxi - pk[j, PK_VX]) * nxi + (vzi - pk[j, PK_VZ]) * nzi
                 if vn > 0.0:
                     coef += (visc * vj * rhoj * vn * (dx * nxi + dz * nzi)

@@ -44,8 +44,8 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, pair_scale, w_r2
-from sph.engine.opening import sees
+from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, w_r2
+from sph.engine.opening import in_sight
 from sph.engine.particles import FLUID, GHOST
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
@@ -113,13 +113,9 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
     c = cell_of[i]
     for row in (c - ncx, c, c + ncx):
         for j in range(cell_start[row - 1], cell_start[row + 2]):
-            dx = xi - x[j]
-            dz = zi - z[j]
-            r2 = dx * dx + dz * dz
-            sij = pair_scale(hs, i, j)
-            if r2 >= r2max * sij * sij or j == i:
-                continue
-            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+            ok, dx, dz, r2, sij = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                           r2max, op, kin)
+            if j == i or not ok:
                 continue
             if kind[j] == FLUID and body[j] == GHOST:
                 continue
