@@ -3,7 +3,8 @@
 Each finding is a statement of the paper that can be checked on this project's runs: a few
 numbers are measured from the gathered dataset (:func:`sph.study.sweeps.gather`) and compared as
 the statement says. A finding whose cases are not in the sweep, or whose time window is not
-covered by the runs, is reported as not determinable rather than guessed.
+covered by the runs or by a case whose run stopped early (it blew up), is reported as not
+determinable rather than guessed.
 
 The findings are the table :data:`FINDINGS`: one :class:`FindingSpec` per finding (id,
 statement, paper section, the group of cases it compares and what it needs of them, whether
@@ -205,6 +206,13 @@ def inflow_rate(t, q, t1: float, period: float) -> float:
     return float((np.interp(t_end, t, q) - np.interp(t1, t, q)) / (t_end - t1))
 
 
+def last_sample(t, y) -> float:
+    """The time of the last finite sample of ``y`` (NaN if none): where a run that stopped
+    early ends in a sweep dataset."""
+    ran = np.nonzero(np.isfinite(y))[0]
+    return float(t[ran[-1]]) if len(ran) else float("nan")
+
+
 def fluctuation(y) -> float:
     """``(max - min) / max`` of ``y``."""
     y = np.asarray(y, dtype=float)
@@ -293,6 +301,16 @@ class _Sweep:
 
     def label(self, case: str) -> str:
         return case_label(self.cases[case])
+
+    def status(self, case: str) -> str:
+        """How the run of ``case`` ended (``completed`` where the dataset does not say)."""
+        if "case_status" not in self.ds.data_vars:
+            return "completed"
+        return str(self.ds["case_status"].sel(case=case).values)
+
+    def end(self, case: str) -> float:
+        """The time of the last sample of ``case``'s run."""
+        return last_sample(self.t, self.series(case, "roll"))
 
     @property
     def steady_covered(self) -> bool:
@@ -763,7 +781,27 @@ def capsize_note(s: _Sweep, case: str) -> str:
     label = case_label(s.cases[case])
     return (f"{case} ({label}) capsized: its roll passed "
             f"{CAPSIZE_DEGREES:g} degree at t/T = {s.t[over[0]] / s.period:.3g} "
-            f"(largest {np.abs(roll).max():.0f} degree)")
+            f"(largest {np.nanmax(np.abs(roll)):.0f} degree)")
+
+
+def stop_note(s: _Sweep, case: str) -> str:
+    """Empty, or why ``case``'s run ended before the others: the time of its last sample,
+    in wave periods, and the engine's status (a blow-up names its step, time and cause)."""
+    status = s.status(case)
+    if status == "completed":
+        return ""
+    return (f"{case} ({case_label(s.cases[case])}) stopped at t/T = "
+            f"{s.end(case) / s.period:.3g}: {status}")
+
+
+def _stopped_too_soon(s: _Sweep, case: str, spec: FindingSpec) -> bool:
+    """Whether ``case`` stopped before the end of the window that ``spec`` measures: the
+    end of the runs for a finding after t2, t2 for one between t1 and t2 (the first peak,
+    the inflow rate, the mean heel, the heave period)."""
+    if s.status(case) == "completed":
+        return False
+    need = s.t_end if spec.steady else s.t2
+    return not s.end(case) >= need - 1e-9 * max(1.0, need)
 
 
 def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
@@ -782,7 +820,10 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
 
     The groups' cases are at one wave frequency (:func:`sph.study.sweeps.groups`); in a
     sweep over wave frequency the findings are measured on them alone
-    (:func:`sph.study.sweeps.one_wave`).
+    (:func:`sph.study.sweeps.one_wave`). A finding is not determinable, with the reason,
+    where it needs a window the runs do not cover, a case that capsized
+    (:func:`capsize_note`) or a case whose run stopped before the end of the window
+    (``case_status``, :func:`stop_note`: a run that blew up).
     """
     s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
     sel = _Cases(s, groups)
@@ -800,6 +841,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         elif any(c in capsized for c in cases):
             out.append(Finding(f.id, f.statement, f.paper, "; ".join(
                 capsized[c] for c in cases if c in capsized), None))
+        elif short := [c for c in cases if _stopped_too_soon(s, c, f)]:
+            out.append(Finding(f.id, f.statement, f.paper, "; ".join(
+                stop_note(s, c) for c in short), None))
         else:
             values, measured = f.measure(s, cases)
             out.append(_judged(f.id, f.statement, f.paper, measured, f.test(values, s),
@@ -823,6 +867,19 @@ def departures(ds) -> list[str]:
                                     amplitude=float(a)))
             out.append(f"{c} ({label}): cargo of {float(rho):g} kg/m³, where the paper's "
                        f"one fluid is water (it gives no cargo density)")
+    return out
+
+
+def stopped_runs(ds, period: float) -> list[str]:
+    """The runs of a sweep dataset that stopped before their end (``case_status`` other
+    than ``completed``), one line per run: when (in wave periods ``period``) and why."""
+    if "case_status" not in ds.data_vars:
+        return []
+    out = []
+    for c, status in zip(ds["case"].values, ds["case_status"].values, strict=True):
+        if str(status) != "completed":
+            end = last_sample(ds["time"].values, ds["roll"].sel(case=c).values)
+            out.append(f"{c} at t/T = {end / period:.3g}: {status}")
     return out
 
 

@@ -761,15 +761,20 @@ def _nominal_times(ds) -> np.ndarray:
 def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping | None = None):
     """Concatenate the runs of a sweep into one dataset with a ``case`` dimension.
 
-    Every run must have completed (global attribute ``status``). The time series are
-    interpolated linearly onto the nominal output times ``k * run.output_interval`` (a run
-    samples at the first step at or after each of them, less than one time step later), so
-    that all cases share one ``time`` coordinate: the longest run's; a run that ends sooner
-    (in a sweep over wave frequency each run lasts the same number of its own periods) is
-    NaN after its end. The case parameters become coordinates along ``case`` (``opening``,
-    ``side``, ``fill``, ``amplitude``, ``omega``), the per-run cost figures, wave period,
-    damage time and resolved configurations variables along it, and the attributes that the
-    runs share global attributes (:func:`one_wave` selects the cases of one wave).
+    The time series are interpolated linearly onto the nominal output times
+    ``k * run.output_interval`` (a run samples at the first step at or after each of them,
+    less than one time step later), so that all cases share one ``time`` coordinate: the
+    longest run's; a run that ends sooner (in a sweep over wave frequency each run lasts the
+    same number of its own periods) is NaN after its end. A run that stopped before its end
+    (global attribute ``status`` other than ``completed``: it blew up, or reached
+    ``run.max_steps``) is kept, NaN after its last sample, and its status is the variable
+    ``case_status``: one case that blew up does not withhold the others, and the findings
+    that need it past its end say so (:func:`sph.study.findings.compute_findings`). A run
+    that says it completed but ends before its ``run.t_end`` is refused. The case parameters
+    become coordinates along ``case`` (``opening``, ``side``, ``fill``, ``amplitude``,
+    ``omega``), the per-run cost figures, wave period, damage time and resolved
+    configurations variables along it, and the attributes that the runs share global
+    attributes (:func:`one_wave` selects the cases of one wave).
     """
     import xarray as xr
 
@@ -778,27 +783,27 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         raise ValueError(f"{len(paths)} files for {len(cases)} cases")
     if not paths:
         raise ValueError("nothing to gather")
-    sets = []
-    for path, case in zip(paths, cases, strict=True):
-        ds = read_dataset(path)
-        status = ds.attrs.get("status", "")
-        if status != "completed":
-            raise ValueError(f"case {case['case']!r} ({path}) did not complete: status "
-                             f"{status!r}")
-        sets.append(ds)
+    sets = [read_dataset(path) for path in paths]
+    statuses = [str(ds.attrs.get("status", "")) for ds in sets]
     grids = [_nominal_times(ds) for ds in sets]
     grid = max(grids, key=len)
     parts = []
-    for ds, case, own in zip(sets, cases, grids, strict=True):
+    for ds, case, own, status in zip(sets, cases, grids, statuses, strict=True):
         t = ds["time"].values
+        if not len(t):
+            raise ValueError(f"case {case['case']!r} has no samples (status {status!r})")
         tol = 1e-6 * max(1.0, own[-1])
-        if t[-1] < own[-1] - tol:
+        if status == "completed" and t[-1] < own[-1] - tol:
             raise ValueError(f"case {case['case']!r} ends at t = {t[-1]:g} s, before its "
-                             f"t_end = {own[-1]:g} s")
+                             f"t_end = {own[-1]:g} s, although it says it completed")
+        end = own[-1] if status == "completed" else float(t[-1])
         timed = [v for v in ds.data_vars if "time" in ds[v].dims]
-        out = ds[timed].interp(time=grid, kwargs={"fill_value": "extrapolate"})
-        if grid[-1] > own[-1] + tol:  # a shorter run: nothing after its end
-            out = out.where(xr.DataArray(grid <= own[-1] + tol, dims="time"))
+        if len(t) > 1:
+            out = ds[timed].interp(time=grid, kwargs={"fill_value": "extrapolate"})
+        else:  # stopped at its first sample: that sample, NaN after it (masked below)
+            out = ds[timed].reindex(time=grid, method="nearest")
+        if grid[-1] > end + tol:  # a shorter run: nothing after its end
+            out = out.where(xr.DataArray(grid <= end + tol, dims="time"))
         for v in timed:
             out[v].attrs = dict(ds[v].attrs)
         out["time"].attrs = dict(ds["time"].attrs)
@@ -808,6 +813,8 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
                 out[name].attrs = cf_attrs(name)
         out["case_config"] = str(ds.attrs.get("config", ""))
         out["case_config"].attrs = cf_attrs("case_config")
+        out["case_status"] = status
+        out["case_status"].attrs = cf_attrs("case_status")
         out.attrs = {}
         parts.append(out)
     ds = xr.concat(parts, dim="case", join="outer", coords="minimal", compat="override",
@@ -850,7 +857,8 @@ def one_wave(ds, cases: Sequence[str] = ()):
     """The cases ``cases`` of a sweep dataset (default: those at the first case's wave
     frequency), which must share one wave period, as a dataset of their own: the times
     after the last of them ends dropped, and their wave period, damage time and frequency
-    as global attributes, as in a sweep at one wave frequency."""
+    as global attributes, as in a sweep at one wave frequency. The end is that of the runs
+    that completed: a run that stopped early is NaN after its end (:func:`gather`)."""
     cases = list(cases)
     if not cases:
         cases = [str(c) for c in ds["case"].values]
@@ -871,9 +879,12 @@ def one_wave(ds, cases: Sequence[str] = ()):
     if "wave_period" in attrs:
         attrs["omega"] = 2.0 * math.pi / float(attrs["wave_period"])
     ran = np.zeros(sub.sizes["time"], dtype=bool)
+    done = np.ones(sub.sizes["case"], dtype=bool)  # a run that stopped early sets no end
+    if "case_status" in sub.data_vars:
+        done = sub["case_status"].values == "completed"
     for name in ("roll", "heave", "sway"):
-        if name in sub.data_vars:
-            ran |= np.isfinite(sub[name].values).all(axis=0)
+        if name in sub.data_vars and done.any():
+            ran |= np.isfinite(sub[name].values[done]).all(axis=0)
     if ran.any() and not ran[-1]:
         sub = sub.isel(time=slice(0, int(np.nonzero(ran)[0][-1]) + 1))
     sub.attrs = attrs

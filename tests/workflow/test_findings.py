@@ -183,6 +183,68 @@ def test_a_capsized_case_makes_its_findings_not_determinable():
     assert all(out[fid].holds is True for fid in ("F1", "F2", "F5", "F6", "F7"))
 
 
+def _stopped(ds, case, t_stop, why="failed: simulation stopped at step 123, t = 40 s"):
+    """``ds`` with ``case``'s run stopped at ``t_stop`` (NaN after it, as gathered)."""
+    k = list(ds["case"].values).index(case)
+    after = ds["time"].values > t_stop
+    for name in ("roll", "heave", "flood_volume", "flood_ratio"):
+        v = ds[name].values
+        v[k, after] = np.nan
+        ds[name] = (("case", "time"), v)
+    v = ds["probe_elevation"].values
+    v[k][:, after] = np.nan
+    ds["probe_elevation"] = (("case", "probe", "time"), v)
+    status = ["completed"] * ds.sizes["case"]
+    status[k] = why
+    ds["case_status"] = ("case", np.array(status, dtype=object))
+    return ds
+
+
+def test_a_case_that_stopped_makes_only_its_later_findings_not_determinable():
+    """A run that blew up (gathered NaN after its end, with its status): the findings that
+    need it past its end are not determinable, naming the case, when it stopped and why;
+    those between t1 and t2 are judged if it ran to t2, and the others as before."""
+    status = "failed: simulation stopped at step 123, t = 50 s: density left the band"
+    ds = _stopped(_sweep(_paper_like()), "case5", 8 * T, status)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    for fid in ("F6", "F12", "F19"):  # after t2, side group
+        assert out[fid].holds is None, (fid, out[fid].measured)
+        label = findings.case_label(dict(opening=10 / 21, side="head", fill=0.0,
+                                         amplitude=study.DEFAULT_AMPLITUDE))
+        assert out[fid].measured == f"case5 ({label}) stopped at t/T = 8: {status}"
+    for fid in ("F5", "F7"):  # within [t1, t2]: case5 ran past t2
+        assert out[fid].holds is True, (fid, out[fid].measured)
+    assert all(out[fid].holds is True for fid in ("F1", "F2", "F3", "F4", "F8", "F9"))
+    # stopped before t2: the side findings between t1 and t2 too
+    ds = _stopped(_sweep(_paper_like()), "case5", 5 * T)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    for fid in ("F5", "F6", "F7", "F12", "F19"):
+        assert out[fid].holds is None and "case5" in out[fid].measured, fid
+    assert out["F1"].holds is True and out["F18"].holds is True
+    assert findings.stopped_runs(ds, T) == [
+        "case5 at t/T = 5: failed: simulation stopped at step 123, t = 40 s"]
+    # a run that stopped at the end of the window (here: after it) decides as before
+    ds = _stopped(_sweep(_paper_like()), "case5", 13 * T)
+    assert _verdicts(ds) == _verdicts(_sweep(_paper_like()))
+
+
+def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
+    """The workflow's findings script on a sweep with a case that blew up: the table, and
+    the page's note naming the run, when it stopped and why."""
+    load, _ = figure_script
+    ds = _stopped(_sweep(_paper_like()), "case5", 8 * T)
+    nc = tmp_path / "sweep.nc"
+    ds.to_netcdf(nc)
+    csv, html = tmp_path / "findings.csv", tmp_path / "findings.html"
+    load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html))
+    page = html.read_text()
+    assert ("Runs that stopped before their end (their findings after that are not "
+            "determinable): case5 at t/T = 8: failed: simulation stopped at step 123") in page
+    rows = csv.read_text().splitlines()
+    f6 = next(r for r in rows if r.startswith("F6,"))
+    assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable")
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 import yaml
 
 from sph.io.output import build_dataset, write_netcdf_atomic
@@ -336,18 +337,37 @@ def test_gather_builds_a_case_dimension(tmp_path):
         assert back["side"].values.tolist() == ["back", "head"]
 
 
-def test_gather_refuses_a_failed_or_short_run(tmp_path):
+def test_gather_keeps_a_run_that_stopped_and_refuses_a_short_completed_one(tmp_path):
+    """A run that blew up is the result of its case: it is gathered NaN after its last
+    sample, with its status, and does not cut the others short; a run that says it
+    completed but ends before its t_end is refused."""
     cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
                                dict(case="b", opening=0.3, side="back", fill=0)])
     a = _run_file(tmp_path / "a.nc", cases[0])
-    b = _run_file(tmp_path / "b.nc", cases[1], status="failed: blew up")
-    with pytest.raises(ValueError, match="'b'.*did not complete"):
-        study.gather([a, b], cases)
+    b = _run_file(tmp_path / "b.nc", cases[1], t_end=1.0)
+    ds = xr.open_dataset(b).load()
+    ds.close()
+    stopped = ds.isel(time=slice(0, 5))  # blew up after t = 0.4 s
+    stopped.attrs["status"] = "failed: simulation stopped at step 40, t = 0.4 s: NaN"
+    write_netcdf_atomic(stopped, b)
+    ds = study.gather([a, b], cases)
+    assert ds.sizes["time"] == 11  # the completed run sets the time axis
+    assert ds["case_status"].values.tolist() == ["completed", stopped.attrs["status"]]
+    roll_b = ds["roll"].sel(case="b").values
+    assert np.isfinite(roll_b[:5]).all() and np.isnan(roll_b[5:]).all()
+    np.testing.assert_allclose(roll_b[:5], np.sin(np.arange(5) * 0.1), atol=1e-12)
+    assert np.isfinite(ds["roll"].sel(case="a").values).all()
+    assert study.one_wave(ds).sizes["time"] == 11  # the stopped run sets no end
     b = _run_file(tmp_path / "b.nc", cases[1], t_end=0.5)
     ds = study.gather([a, b], cases)  # the longer run sets the time axis
     assert ds.sizes["time"] == 11
     assert np.isnan(ds["roll"].sel(case="b").values[6:]).all()
     assert np.isfinite(ds["roll"].sel(case="b").values[:6]).all()
+    ds = xr.open_dataset(b).load()
+    ds.close()
+    write_netcdf_atomic(ds.isel(time=slice(0, 3)), b)  # "completed", yet ends at 0.2 s
+    with pytest.raises(ValueError, match="'b' ends at t = 0.2 s.*says it completed"):
+        study.gather([a, b], cases)
 
 
 # ------------------------------------------------------------------------------ wave frequency

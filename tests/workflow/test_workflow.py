@@ -338,9 +338,11 @@ def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
 
 def test_a_case_that_blows_up_keeps_what_it_wrote(tmp_path):
     """A run that blows up stops with the step, time and cause and writes its output up to
-    that moment (exit status 3); the workflow keeps it (the default profile's
-    ``keep-incomplete``: snakemake otherwise deletes a failed job's output as possibly
-    corrupt). The default profile is the one Snakemake finds by itself."""
+    that moment (exit status 3): that output is the case's result, marked with its status,
+    so the job succeeds with a warning in its log and the sweep can be gathered
+    (sph.study.sweeps.gather keeps it NaN after its end); the default profile, which
+    Snakemake finds by itself, also keeps the output of a job that fails
+    (``keep-incomplete``)."""
     work = _workflow_copy(tmp_path)
     sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
     # the hydrostatic density at the tank floor is above this at once
@@ -348,9 +350,14 @@ def test_a_case_that_blows_up_keeps_what_it_wrote(tmp_path):
     (work / ".test" / "blow.yaml").write_text(yaml.safe_dump(sweep))
     target = "results/test/cases/case1.nc"
     res = _snakemake(work, target, "--cores", "1", "--configfile", ".test/blow.yaml")
-    assert res.returncode != 0
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     assert "workflow specific profile profiles/default" in res.stdout + res.stderr
     log = (work / "results/test/logs/simulate/case1.log").read_text()
     assert "error: simulation stopped at step" in log and "left the band" in log, log
+    assert "warning: the run blew up" in log, log
     ds = read_dataset(work / target)
     assert ds.sizes["time"] >= 1
+    assert ds.attrs["status"].startswith("failed: simulation stopped at step")
+    # done: a second call has nothing to do (it would blow up again)
+    res = _snakemake(work, target, "--cores", "1", "--configfile", ".test/blow.yaml")
+    assert res.returncode == 0 and "Nothing to be done" in res.stdout + res.stderr

@@ -4,14 +4,20 @@
 # checkpoint folder is deliberately not an output, so that snakemake does not delete it
 # when it reruns an incomplete job (`--rerun-incomplete`, set in the default profile). A
 # checkpoint left by a run of other parameters is refused by the engine (exit status 2);
-# the run then starts over from t = 0.
+# the run then starts over from t = 0. A run that blows up (exit status 3) has written its
+# output up to then, marked with its status (the step, time and cause): that is the case's
+# result, so the job succeeds with a warning in its log, the sweep is gathered with the
+# case NaN after its end, and the findings that need it later are not determinable
+# (sph.study.sweeps.gather, sph.study.findings). Running it again would blow up again.
 
 SPH_RUN = (
-    "( sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
-    " || {{ status=$?; if [ $status -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
-    " echo 'checkpoint of other parameters: starting over'; sph run {input.case:q}"
-    " -o {output.nc:q} --threads {threads} --no-progress --restart;"
-    " else exit $status; fi; }} ) > {log:q} 2>&1"
+    "( s=0; sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
+    " || s=$?; if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
+    " echo 'checkpoint of other parameters: starting over'; s=0; sph run {input.case:q}"
+    " -o {output.nc:q} --threads {threads} --no-progress --restart || s=$?; fi;"
+    " if [ $s -eq 3 ]; then echo 'warning: the run blew up (above); its output up to then"
+    " is the result of this case, marked with its status; the findings that need it"
+    " later are not determinable'; s=0; fi; exit $s ) > {log:q} 2>&1"
 )
 
 

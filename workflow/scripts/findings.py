@@ -8,7 +8,13 @@ import csv
 import logging
 
 from sph.io.output import read_dataset
-from sph.study.findings import compute_findings, departures, findings_html, findings_table
+from sph.study.findings import (
+    compute_findings,
+    departures,
+    findings_html,
+    findings_table,
+    stopped_runs,
+)
 from sph.study.sweeps import one_wave
 
 
@@ -31,12 +37,18 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
     differ = departures(ds)
     note += (" Runs that differ from the paper: " + "; ".join(differ) + "." if differ
              else " No run differs from the paper in its cargo.")
+    stopped = stopped_runs(ds, period)
+    if stopped:
+        note += (" Runs that stopped before their end (their findings after that are not "
+                 "determinable): " + "; ".join(stopped) + ".")
     with open(out_html, "w") as fh:
         fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
     for f in found:
         logging.getLogger("findings").info("%s %s: %s", f.id, f.verdict, f.measured)
     for line in differ:
         logging.getLogger("findings").info("differs from the paper: %s", line)
+    for line in stopped:
+        logging.getLogger("findings").warning("stopped early: %s", line)
 
 
 if __name__ == "__main__":

@@ -14,8 +14,11 @@ from sph.study.sweeps import gather
 def main(paths, cases, attrs, out) -> None:
     ds = gather(paths, cases, attrs)
     write_netcdf_atomic(ds, out)
-    logging.getLogger("gather").info("wrote %s: %d cases, %d times", out, ds.sizes["case"],
-                                     ds.sizes["time"])
+    log = logging.getLogger("gather")
+    log.info("wrote %s: %d cases, %d times", out, ds.sizes["case"], ds.sizes["time"])
+    for case, status in zip(ds["case"].values, ds["case_status"].values, strict=True):
+        if status != "completed":
+            log.warning("case %s stopped before its end (NaN after it): %s", case, status)
 
 
 if __name__ == "__main__":
