@@ -17,7 +17,11 @@ median of the per-block ratios, both median block rates, and the stage table of 
 run of this tree.
 
     python benchmarks/ship_step_profile.py [--threads 1] [--steps 300] [--repeat 3]
-        [--baseline 846fe50 | none] [--blocks 60] [--block 20]
+        [--baseline 846fe50 | none] [--blocks 60] [--block 20] [--set KEY=VALUE ...]
+
+``--set`` (repeatable; :func:`step_server.parse_sets`) adds case-file values to the ship of
+both sides, e.g. the workflow's ``refined`` ship: ``--set geometry.refine_hull=2 --set
+numerics.wall_damping=true --set numerics.pressure_floor=-1e5``.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ import time
 from pathlib import Path
 
 from compare import ROOT, lockstep, run_child, worktree
-from step_server import damaged_ship
+from step_server import damaged_ship, parse_sets
 
 from sph.engine import stepper as solver
 from sph.engine.neighbours import CellGrid
@@ -39,7 +43,7 @@ from sph.engine.particles import Particles
 #: engine stages called from the solver module (numba kernels)
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
           "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
-          "max_speed_accel")
+          "max_speed_accel", "wall_normals", "walled", "ghost_fields", "cavitation_floor")
 
 
 def _timed(fn, name, timers):
@@ -52,16 +56,16 @@ def _timed(fn, name, timers):
 
 
 def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: int,
-            shifting: float) -> tuple[int, float, dict]:
+            shifting: float, extra=()) -> tuple[int, float, dict]:
     timers: dict[str, float] = collections.defaultdict(float)
-    originals = {name: getattr(solver, name) for name in STAGES}
+    originals = {name: getattr(solver, name) for name in STAGES if hasattr(solver, name)}
     sort, permute = CellGrid.sort, Particles.permute
     try:
         for name, fn in originals.items():
             setattr(solver, name, _timed(fn, name, timers))
         CellGrid.sort = _timed(sort, "cell sort", timers)
         Particles.permute = _timed(permute, "permute", timers)
-        sim = damaged_ship(dx, damage_period, threads, shifting)
+        sim = damaged_ship(dx, damage_period, threads, shifting, extra)
         for event in sim.setup.events:
             event.apply = _timed(event.apply, type(event).__name__, timers)
         for body in sim.bodies:
@@ -95,6 +99,7 @@ def main() -> None:
     ap.add_argument("--baseline", default="846fe50")
     ap.add_argument("--blocks", type=int, default=60)
     ap.add_argument("--block", type=int, default=20)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = ap.parse_args()
     if args.baseline != "none":
         compare_with(args)
@@ -102,7 +107,7 @@ def main() -> None:
     rates = []
     for _ in range(args.repeat):
         n, rate, shares = measure(args.dx, args.damage_period, args.steps, args.warmup,
-                                  args.threads, args.shifting)
+                                  args.threads, args.shifting, parse_sets(args.set))
         rates.append(rate)
     for name, share in shares.items():
         print(f"{name:32s} {100 * share:5.1f} %")
@@ -121,7 +126,7 @@ def compare_with(args) -> None:
     base = worktree(args.baseline)
     common = ["--threads", str(args.threads), "--dx", str(args.dx), "--damage-period",
               str(args.damage_period), "--shifting", str(args.shifting), "--warmup",
-              str(args.warmup)]
+              str(args.warmup)] + [f"--set={item}" for item in args.set]
     out = lockstep(Path(__file__).with_name("step_server.py"),
                    common + ["--block", str(args.block)], ROOT, base, args.blocks)
     last = run_child(Path(__file__), common + ["--steps", str(args.steps), "--repeat", "1",
@@ -140,7 +145,7 @@ def compare_with(args) -> None:
                       "particle_steps_per_s": round(rate), "baseline": args.baseline,
                       "baseline_particle_steps_per_s": round(ref_rate),
                       "ratio": out["ratio"], "median_ratio": out["median_ratio"],
-                      "blocks": args.blocks, "block": args.block,
+                      "blocks": args.blocks, "block": args.block, "set": args.set,
                       "stage_shares": last["stage_shares"]}))
 
 

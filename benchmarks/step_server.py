@@ -7,6 +7,11 @@ then for each line read from standard input advances ``--block`` steps and print
 seconds they took; it stops at end of input.
 
     PYTHONPATH=TREE python benchmarks/step_server.py [--dx 0.8] [--threads 1] [--block 20]
+        [--set KEY=VALUE ...]
+
+``--set`` (repeatable) adds a case-file value (dotted key, YAML value), e.g.
+``--set geometry.refine_hull=2 --set numerics.wall_damping=true`` for the ship of the
+workflow's ``refined`` preset.
 """
 
 from __future__ import annotations
@@ -16,11 +21,27 @@ import sys
 import time
 
 
-def damaged_ship(dx: float, damage_period: float, threads: int, shifting: float):
-    """The built-in damaged ship with these values; works with this tree's package and with
-    the single-package layout of release 0.1.0 (commit 846fe50)."""
+def parse_sets(items) -> list[tuple[str, object]]:
+    """``KEY=VALUE`` strings (``--set``) as (dotted key, YAML-parsed value) pairs."""
+    import yaml
+
+    out = []
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise SystemExit(f"--set {item!r}: expected KEY=VALUE")
+        out.append((key, yaml.safe_load(value)))
+    return out
+
+
+def damaged_ship(dx: float, damage_period: float, threads: int, shifting: float,
+                 extra=()):
+    """The built-in damaged ship with these values and the case-file values ``extra``
+    (``(dotted key, value)`` pairs); works with this tree's package and with the
+    single-package layout of release 0.1.0 (commit 846fe50)."""
     over = [("numerics.dx", dx), ("numerics.threads", threads),
-            ("numerics.shifting", shifting), ("geometry.damage.time_periods", damage_period)]
+            ("numerics.shifting", shifting), ("geometry.damage.time_periods", damage_period),
+            *extra]
     try:
         from sph.cases import builtin
         from sph.driver import Simulation
@@ -42,8 +63,10 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--warmup", type=int, default=20)
     ap.add_argument("--block", type=int, default=20)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = ap.parse_args()
-    sim = damaged_ship(args.dx, args.damage_period, args.threads, args.shifting)
+    sim = damaged_ship(args.dx, args.damage_period, args.threads, args.shifting,
+                       parse_sets(args.set))
     sim.evaluate()
     for _ in range(args.warmup):
         sim.advance()

@@ -268,7 +268,7 @@ def pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw=None):
             pk[j, PK_MFLUID] = -wj * m[j] if body[j] == GHOST else m[j]
 
 
-def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
+def _list_sums(wendland: bool, diffusion: bool, ghosts: bool, damping: bool):
     """The pair sums of :func:`_sums_general` for a fluid particle that cannot see through
     a damage opening, over its inner list ``inner[k0:k1]``
     (:meth:`sph.engine.neighbours.NeighbourList.refresh`: the particles within the support
@@ -283,9 +283,12 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
     One loop per kernel (``wendland``), per density filter (``diffusion`` adds the
     diffusive term; without it, MLS or no filter, ``diff`` is 0) and for variable resolution
     (``ghosts``: a ghost's mass is stored negated, and its pressure sum with the particle
-    counts only when it pushes). The choices are constants of the compiled loop, not tests
-    in it: one loop with the kernel chosen per pair took about 1.5 times as long on the
-    damaged ship, and the ghosts' test in every loop 1.03 times.
+    counts only when it pushes), and with or without the wall damping (``damping``: the
+    particle has walls and a wall normal, ``nxi, nzi``, under ``numerics.wall_damping``).
+    The choices are constants of the compiled loop, not tests in it: one loop with the
+    kernel chosen per pair took about 1.5 times as long on the damaged ship, the ghosts'
+    test in every loop 1.03 times, and the damping's test 1.15-1.3 times, whether it damped
+    or not.
     """
 
     @njit(inline="always", **JIT_PAIR)
@@ -312,7 +315,6 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
         div = 0.0
         diff = 0.0
         shep = 0.0
-        damp = nxi != 0.0 or nzi != 0.0  # numerics.wall_damping, and walls in reach
         for k in range(k0, k1):
             j = inner[k]
             dx = xi - pk[j, PK_X]
@@ -341,12 +343,16 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
             vr = (vxi - pk[j, PK_VX]) * dx + (vzi - pk[j, PK_VZ]) * dz
             div += vj * vr * fw
             coef = -psum * vj * inv_rhoi
-            coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
-            if damp and not fluid:  # numerics.wall_damping
+            if damping:  # numerics.wall_damping: a wall's approach along the normal
                 vn = (vxi - pk[j, PK_VX]) * nxi + (vzi - pk[j, PK_VZ]) * nzi
-                if vn > 0.0:
-                    coef += (visc * vj * rhoj * vn * (dx * nxi + dz * nzi)
-                             / ((rhoi + rhoj) * (r2 + eps2)))
+                # a select, not a branch, so that the loop stays vectorised: fluid pairs
+                # and walls moving away add 0, and each pair has one of the two terms
+                # (walls: mj = 0), so one division serves both
+                vn = 0.0 if fluid else max(vn, 0.0)
+                coef += ((visc * mj * vr + visc * vj * rhoj * vn * (dx * nxi + dz * nzi))
+                         / ((rhoi + rhoj) * (r2 + eps2)))
+            else:
+                coef += visc * mj * vr / ((rhoi + rhoj) * (r2 + eps2))  # walls: mj = 0
             accx += coef * fw * dx
             accz += coef * fw * dz
             if diffusion:
@@ -363,28 +369,45 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool):
 
 
 def _list_loop(ghosts: bool):
-    """One call for the four list loops of :func:`_list_sums` with or without ``ghosts``
-    (variable resolution): ``sums(gauss, diffusion, i, k0, ...)`` picks the kernel's and the
-    density filter's loop."""
-    gauss_diff = _list_sums(wendland=False, diffusion=True, ghosts=ghosts)
-    gauss = _list_sums(wendland=False, diffusion=False, ghosts=ghosts)
-    wend_diff = _list_sums(wendland=True, diffusion=True, ghosts=ghosts)
-    wend = _list_sums(wendland=True, diffusion=False, ghosts=ghosts)
+    """One call for the eight list loops of :func:`_list_sums` with or without ``ghosts``
+    (variable resolution): ``sums(gauss, diffusion, damping, i, k0, ...)`` picks the
+    kernel's, the density filter's and the wall damping's loop."""
+    def loop(wendland, diffusion, damping):
+        return _list_sums(wendland=wendland, diffusion=diffusion, ghosts=ghosts,
+                          damping=damping)
+
+    gauss_diff, gauss = loop(False, True, False), loop(False, False, False)
+    wend_diff, wend = loop(True, True, False), loop(True, False, False)
+    gauss_diff_w, gauss_w = loop(False, True, True), loop(False, False, True)
+    wend_diff_w, wend_w = loop(True, True, True), loop(True, False, True)
 
     @njit(inline="always", **JIT_PAIR)
-    def sums(gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-             pwall, pfloor, nxi, nzi):
+    def sums(gaussian, diffusion, damping, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+             hz, s, pwall, pfloor, nxi, nzi):
+        # explicit arguments: numba does not inline a closure called with *args
+        if damping:
+            if gaussian and diffusion:
+                return gauss_diff_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                                    pwall, pfloor, nxi, nzi)
+            if gaussian:
+                return gauss_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                               pwall, pfloor, nxi, nzi)
+            if diffusion:
+                return wend_diff_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                                   pwall, pfloor, nxi, nzi)
+            return wend_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
+                          pfloor, nxi, nzi)
         if gaussian and diffusion:
             return gauss_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
                               pfloor, nxi, nzi)
         if gaussian:
-            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor,
-                         nxi, nzi)
+            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
+                         pfloor, nxi, nzi)
         if diffusion:
             return wend_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
                              pfloor, nxi, nzi)
-        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor, nxi,
-                    nzi)
+        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor,
+                    nxi, nzi)
 
     return sums
 
@@ -476,14 +499,16 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             k1 = inner_end[i]
             # every pair of a list is of the particle's own level (pair_scale)
             s = hs[i] if variable else 1.0
+            # numerics.wall_damping, and walls in reach
+            damp = nxi != 0.0 or nzi != 0.0
             if variable:
                 accx, accz, div, diff, shep = _sums_variable(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
+                    gauss, use_delta, damp, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                    hz, s, pwall, pfloor, nxi, nzi)
             else:
                 accx, accz, div, diff, shep = _sums_uniform(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
+                    gauss, use_delta, damp, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                    hz, s, pwall, pfloor, nxi, nzi)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,

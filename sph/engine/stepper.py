@@ -62,6 +62,7 @@ from sph.engine.walls import (
     wall_forces,
     wall_normals,
     wall_pressure,
+    walled,
 )
 
 log = logging.getLogger(__name__)
@@ -333,6 +334,8 @@ class Stepper:
         damp = self.cfg.numerics.wall_damping
         self._wnx = np.zeros(n) if damp else None
         self._wnz = np.zeros(n) if damp else None
+        # the fluid particles with a wall in their inner list (walled), at each refresh
+        self._walled = np.zeros(n, dtype=np.bool_) if damp else None
         need = self.tension == FREE_SURFACE
         self._lam = np.ones(n) if need else None
         self._surf = np.zeros(n, dtype=np.bool_) if need else None
@@ -369,7 +372,7 @@ class Stepper:
         if self._wnx is not None:
             wall_normals(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
-                         self._wnx, self._wnz)
+                         self._walled, self._wnx, self._wnz)
         if self._surf is not None:
             free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
@@ -463,6 +466,15 @@ class Stepper:
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
         self.nlist.refresh(p.x, p.z, self.inner_radius, self._hs(p))
+        self._mark_walled()
+
+    def _mark_walled(self) -> None:
+        """Under ``numerics.wall_damping``, the fluid particles whose inner list holds a
+        wall (:func:`walled`): the wall normals are summed for them alone."""
+        if self._walled is not None:
+            nl = self.nlist
+            walled(self.parts.kind, self.parts.body, nl.start, nl.inner, nl.inner_end,
+                   self._walled)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -669,5 +681,6 @@ class Stepper:
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius,
                          hs)
         self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, hs)
+        self._mark_walled()
         self._listed = parts
         self._mark_ghosts()

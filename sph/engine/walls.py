@@ -29,7 +29,7 @@ from numba import prange
 from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
-from sph.engine.opening import OP_GROUP, in_sight, near_opening, wall_hidden
+from sph.engine.opening import OP_GROUP, in_sight, near_opening, opening_circle, wall_hidden
 from sph.engine.particles import FLUID, GHOST, WALL
 from sph.engine.surface import CLAMP, wall_pair_terms
 
@@ -206,32 +206,62 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
 
 
 @njit(**JIT_PARALLEL)
+def walled(kind, body, start, inner, inner_end, out):
+    """Mark the active fluid particles with a wall particle in their inner list
+    (:meth:`sph.engine.neighbours.NeighbourList.refresh`): the only ones whose wall normal
+    (:func:`wall_normals`) can differ from zero until the inner lists are refreshed."""
+    for i in prange(kind.shape[0]):
+        out[i] = False
+        if kind[i] != FLUID or body[i] == GHOST:
+            continue
+        for k in range(start[i], inner_end[i]):
+            if kind[inner[k]] == WALL:
+                out[i] = True
+                break
+
+
+@njit(**JIT_PARALLEL)
 def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, inner_end,
-                 nx, nz):
+                 near, nx, nz):
     r"""The unit vector from each active fluid particle towards the walls it sees,
     :math:`\mathbf{n}_i \propto \sum_w V_w \nabla_i W_{iw}` over the wall particles of its
     inner list within the support that the pair rule lets it see
     (:func:`sph.engine.opening.sees`: its compartment, not hidden by an open damage
     opening), with their volumes ``m / rho`` (:func:`wall_pressure` sets them); ``(0, 0)``
     with no wall in reach. ``numerics.wall_damping`` damps the approach along it
-    (:func:`sph.engine.fluid.interact`). Call after :func:`wall_pressure`."""
+    (:func:`sph.engine.fluid.interact`). Call after :func:`wall_pressure`. Only the
+    particles marked in ``near`` (:func:`walled`) have walls to sum over.
+
+    Beyond the open opening's reach (:func:`sph.engine.opening.near_opening`, and
+    everywhere while it is closed) no wall is hidden, and the pair rule is the
+    compartment's alone, as in the fluid's list loops: the test of :func:`in_sight` is
+    made only near the opening (the same walls, in the same order)."""
     r2max = kp[KP_R2MAX]
+    ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
     for i in prange(x.shape[0]):
         nx[i] = 0.0
         nz[i] = 0.0
-        if kind[i] != FLUID or body[i] == GHOST:
+        if not near[i]:  # no wall in its list; nor a wall particle or a ghost
             continue
         xi = x[i]
         zi = z[i]
         ci = comp[i]
+        sees_opening = (xi - ocx) * (xi - ocx) + (zi - ocz) * (zi - ocz) <= or2
         sx = 0.0
         sz = 0.0
         for k in range(start[i], inner_end[i]):
             j = inner[k]
             if kind[j] != WALL:
                 continue
-            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
-                                         op, kin)
+            if sees_opening:
+                ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                             r2max, op, kin)
+            else:
+                dx = xi - x[j]
+                dz = zi - z[j]
+                r2 = dx * dx + dz * dz
+                s = pair_scale(hs, i, j)
+                ok = r2 < r2max * s * s and comp[j] == ci
             if not ok:
                 continue
             # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j

@@ -19,7 +19,7 @@ from sph.engine.kernels import kernel_params
 from sph.engine.neighbours import CellGrid
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, WALL
-from sph.engine.walls import fixed_kinematics, wall_normals
+from sph.engine.walls import fixed_kinematics, wall_normals, walled
 
 DX = 0.1
 C0 = 30.0
@@ -47,8 +47,11 @@ def floor():
 
 def _normals(f):
     nx, nz = np.zeros(f["n"]), np.zeros(f["n"])
+    near = np.zeros(f["n"], dtype=np.bool_)
+    walled(f["kind"], f["body"], *f["lists"], near)
+    assert near[f["fluid"]] and near.sum() == 1  # the fluid particle, which has walls
     wall_normals(f["x"], f["z"], f["m"], f["rho"], f["kind"], f["body"], f["comp"], None,
-                 f["kp"], no_opening(), fixed_kinematics(1), *f["lists"], nx, nz)
+                 f["kp"], no_opening(), fixed_kinematics(1), *f["lists"], near, nx, nz)
     return nx, nz
 
 

@@ -46,6 +46,17 @@ from sph.schema import ConfigError
 
 ROOT = Path(__file__).resolve().parents[2]
 
+#: the tiny damaged ship of the checkpoint tests
+_SHIP = [
+    "numerics.dx=0.25", "geometry.depth=3", "geometry.tank_length=12",
+    "geometry.tank_height=5", "geometry.ship_x=6", "geometry.absorber.enabled=false",
+    "geometry.hull={breadth: 3.0, depth: 2.0, draught: 1.0, bilge_radius: 0.3, "
+    "plating: 0.1, kg: 0.8, gyradius: 1.0}",
+    "geometry.wavemaker.amplitude=0.2", "geometry.wavemaker.omega=2.0",
+    "geometry.damage.time_periods=0.05", "probes.surface=[{name: WP1, x: 3}]",
+    "run.t_end=0.25", "run.output_interval=0.02",
+]
+
 # Tiny versions of the cases (a few hundred to two thousand particles, about a second each).
 TINY = {
     "still_water": ("still_water", [
@@ -65,15 +76,9 @@ TINY = {
         "run.output_interval=0.02",
     ]),
     # a 3 m x 2 m hull in a 12 m tank; the opening appears at t1 = 0.157 s (step 141)
-    "damaged_ship": ("damaged_ship", [
-        "numerics.dx=0.25", "geometry.depth=3", "geometry.tank_length=12",
-        "geometry.tank_height=5", "geometry.ship_x=6", "geometry.absorber.enabled=false",
-        "geometry.hull={breadth: 3.0, depth: 2.0, draught: 1.0, bilge_radius: 0.3, "
-        "plating: 0.1, kg: 0.8, gyradius: 1.0}",
-        "geometry.wavemaker.amplitude=0.2", "geometry.wavemaker.omega=2.0",
-        "geometry.damage.time_periods=0.05", "probes.surface=[{name: WP1, x: 3}]",
-        "run.t_end=0.25", "run.output_interval=0.02",
-    ]),
+    "damaged_ship": ("damaged_ship", _SHIP),
+    # the same with the wall damping: the normals' particles (walled) are rebuilt on resume
+    "damaged_ship_damped": ("damaged_ship", [*_SHIP, "numerics.wall_damping=true"]),
     # particles created in the inflow region and removed beyond the outflow region
     "current_tank": ("current_tank", [
         "numerics.dx=0.05", "geometry.depth=0.2", "geometry.tank_length=0.5",
