@@ -99,3 +99,31 @@ def test_list_loop_and_general_loop_agree(floor):
         got = _accel(floor, velocity, True)
         want = _accel(floor, velocity, True, reference=True)
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+@pytest.mark.slow
+def test_free_sloshing_is_unchanged():
+    """Free sloshing in the U-shaped cabin at the refined cabins' spacing (0.2 m) with the
+    ship's numerics: the flow along the walls is left free, so the damping changes neither
+    the first sloshing frequency nor its decay. Measured 2026-11-28 at the fills of Table
+    II: frequency 0.8764 / 1.1468 / 1.2789 rad/s without and 0.8766 / 1.1468 / 1.2789 with
+    it, damping ratio 0.0069 / 0.0047 / 0.0052 both (the frequencies within 0.7-2.4 % of
+    Table II's 0.87 / 1.12 / 1.26). The tolerances are far above those differences and far
+    below what a viscosity on the whole relative velocity at the walls would add."""
+    from sph.cases import builtin
+    from sph.driver import Simulation
+    from sph.study.validation import frequency, ship_numerics
+
+    over = {k: v for k, v in ship_numerics().items() if not k.startswith("geometry.")}
+    over.update({"numerics.dx": 0.2, "numerics.threads": 1, "geometry.fill": 0.5,
+                 "numerics.pressure_floor": -100000.0, "run.t_end": 30.0,
+                 "run.output_interval": 0.05})
+    out = {}
+    for damping in (False, True):
+        cfg = builtin("sloshing_u", list({**over, "numerics.wall_damping": damping}.items()))
+        ds = Simulation(cfg).run().dataset()
+        out[damping] = frequency(ds["time"].values, ds["centre_of_mass_x"].values)
+    (w0, z0), (w1, z1) = out[False], out[True]
+    assert w1 == pytest.approx(w0, rel=0.005)
+    assert z1 == pytest.approx(z0, rel=0.15)
+    assert 0.0 < z0 < 0.02  # a free decay, lightly damped

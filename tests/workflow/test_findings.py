@@ -245,6 +245,23 @@ def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable")
 
 
+def test_figures_name_a_run_that_stopped(tmp_path, figure_script):
+    """The ship figures draw a run that blew up to its last sample and say so in its label
+    (the overview, one panel per series) or its panel's title (Fig. 22, one per case)."""
+    load, drawn = figure_script
+    fig_ship = load("fig_ship")
+    nc = tmp_path / "sweep.nc"
+    _stopped(_sweep(_paper_like()), "case7", 8 * T).to_netcdf(nc)
+    fig_ship.main(tmp_path / "overview.png", nc, ["roll", "flood_ratio"])
+    labels = [t.get_text() for t in drawn["axes"][0].get_legend().get_texts()]
+    assert labels[6].endswith("η = 50 % (stopped at t/T = 8)") and "stopped" not in labels[5]
+    line = drawn["axes"][0].get_lines()[6].get_ydata()
+    assert np.isnan(line[-1]) and np.isfinite(line[0])
+    fig_ship.main(tmp_path / "fig22.png", nc, ["W1", "W2"], GROUPS["fill"], "fill", 7.0)
+    titles = [ax.get_title() for ax in drawn["axes"]]
+    assert any(t.endswith("(stopped at t/T = 8)") for t in titles), titles
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],

@@ -21,7 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from sph.io.output import read_dataset  # noqa: E402
-from sph.study.findings import case_label, fraction_text  # noqa: E402
+from sph.study.findings import case_label, fraction_text, last_sample  # noqa: E402
 
 LABELS = {
     "roll": "roll (deg)",
@@ -49,6 +49,16 @@ def _case(ds, case):
     if "omega" in c.coords:
         out["omega"] = float(c["omega"])
     return out
+
+
+def _stopped(ds, case) -> str:
+    """Empty, or where the run of ``case`` stopped before its end (a run that blew up,
+    gathered NaN after its last sample: ``case_status``), for its label."""
+    if "case_status" not in ds.data_vars or \
+            str(ds["case_status"].sel(case=case).values) == "completed":
+        return ""
+    end = last_sample(ds["time"].values, ds["roll"].sel(case=case).values)
+    return f" (stopped at t/T = {end / _wave(ds, case)[0]:.3g})"
 
 
 def _wave(ds, case):
@@ -79,6 +89,8 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
             if group == "amplitude" and not probes_per_case:
                 amp = float(ds["amplitude"].sel(case=case))
                 label = f"A/d = {fraction_text(amp)}" if amp > 0 else "still water"
+            if not probes_per_case:
+                label += _stopped(ds, case)
             ax.plot(ds["time"].values / _wave(ds, case)[0], _series(ds, case, name), lw=1.0,
                     label=label)
         ax.axvline(t1, color="k", ls="--", lw=0.8)
@@ -86,7 +98,7 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
             ax.axvline(t2_periods, color="0.5", ls=":", lw=0.8)
         if probes_per_case:
             ax.set_ylabel("elevation (m)")
-            ax.set_title(case_label(_case(ds, key)), fontsize=9)
+            ax.set_title(case_label(_case(ds, key)) + _stopped(ds, key), fontsize=9)
         else:
             ax.set_ylabel(LABELS.get(key, key))
         ax.legend(fontsize=7, ncol=min(4, len(lines)), loc="upper left")
