@@ -368,52 +368,40 @@ def _list_sums(wendland: bool, diffusion: bool, ghosts: bool, damping: bool):
     return sums
 
 
-def _list_loop(ghosts: bool):
-    """One call for the eight list loops of :func:`_list_sums` with or without ``ghosts``
-    (variable resolution): ``sums(gauss, diffusion, damping, i, k0, ...)`` picks the
-    kernel's, the density filter's and the wall damping's loop."""
-    def loop(wendland, diffusion, damping):
-        return _list_sums(wendland=wendland, diffusion=diffusion, ghosts=ghosts,
-                          damping=damping)
-
-    gauss_diff, gauss = loop(False, True, False), loop(False, False, False)
-    wend_diff, wend = loop(True, True, False), loop(True, False, False)
-    gauss_diff_w, gauss_w = loop(False, True, True), loop(False, False, True)
-    wend_diff_w, wend_w = loop(True, True, True), loop(True, False, True)
+def _list_loop(ghosts: bool, damping: bool):
+    """One call for the four list loops of :func:`_list_sums` with or without ``ghosts``
+    (variable resolution) and the wall ``damping``: ``sums(gauss, diffusion, i, k0, ...)``
+    picks the kernel's and the density filter's loop."""
+    gauss_diff = _list_sums(wendland=False, diffusion=True, ghosts=ghosts, damping=damping)
+    gauss = _list_sums(wendland=False, diffusion=False, ghosts=ghosts, damping=damping)
+    wend_diff = _list_sums(wendland=True, diffusion=True, ghosts=ghosts, damping=damping)
+    wend = _list_sums(wendland=True, diffusion=False, ghosts=ghosts, damping=damping)
 
     @njit(inline="always", **JIT_PAIR)
-    def sums(gaussian, diffusion, damping, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
-             hz, s, pwall, pfloor, nxi, nzi):
-        # explicit arguments: numba does not inline a closure called with *args
-        if damping:
-            if gaussian and diffusion:
-                return gauss_diff_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                                    pwall, pfloor, nxi, nzi)
-            if gaussian:
-                return gauss_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                               pwall, pfloor, nxi, nzi)
-            if diffusion:
-                return wend_diff_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                                   pwall, pfloor, nxi, nzi)
-            return wend_w(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
-                          pfloor, nxi, nzi)
+    def sums(gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+             pwall, pfloor, nxi, nzi):
         if gaussian and diffusion:
             return gauss_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
                               pfloor, nxi, nzi)
         if gaussian:
-            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
-                         pfloor, nxi, nzi)
+            return gauss(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor,
+                         nxi, nzi)
         if diffusion:
             return wend_diff(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall,
                              pfloor, nxi, nzi)
-        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor,
-                    nxi, nzi)
+        return wend(i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s, pwall, pfloor, nxi,
+                    nzi)
 
     return sums
 
 
-_sums_uniform = _list_loop(ghosts=False)
-_sums_variable = _list_loop(ghosts=True)
+_sums_uniform = _list_loop(ghosts=False, damping=False)
+_sums_variable = _list_loop(ghosts=True, damping=False)
+# numerics.wall_damping, for the particles with walls: a loop of its own (a test for the
+# damping in the loop, compiled for arrays of normals, cost every particle its
+# vectorisation; the loops without it are compiled only where normals are passed)
+_sums_uniform_damped = _list_loop(ghosts=False, damping=True)
+_sums_variable_damped = _list_loop(ghosts=True, damping=True)
 
 
 @njit(**JIT_PARALLEL_PAIR)
@@ -499,16 +487,27 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             k1 = inner_end[i]
             # every pair of a list is of the particle's own level (pair_scale)
             s = hs[i] if variable else 1.0
-            # numerics.wall_damping, and walls in reach
-            damp = nxi != 0.0 or nzi != 0.0
-            if variable:
+            # numerics.wall_damping: a particle with walls in reach takes the damped loop;
+            # without the damping (wnx None) the damped loops are not compiled in
+            damped = False
+            if wnx is not None:
+                damped = nxi != 0.0 or nzi != 0.0
+            if damped and variable:
+                accx, accz, div, diff, shep = _sums_variable_damped(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
+            elif damped:
+                accx, accz, div, diff, shep = _sums_uniform_damped(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
+            elif variable:
                 accx, accz, div, diff, shep = _sums_variable(
-                    gauss, use_delta, damp, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
-                    hz, s, pwall, pfloor, nxi, nzi)
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
             else:
                 accx, accz, div, diff, shep = _sums_uniform(
-                    gauss, use_delta, damp, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
-                    hz, s, pwall, pfloor, nxi, nzi)
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,

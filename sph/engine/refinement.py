@@ -79,7 +79,7 @@ from sph.engine.config import MAX_LEVEL
 from sph.engine.filters import mls_solve
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, w_scaled
-from sph.engine.opening import sees
+from sph.engine.opening import opening_circle, sees
 from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
 
 #: columns of the packed boxes (:func:`pack_boxes`)
@@ -451,12 +451,17 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     active neighbour of their level, beside ghosts filled 0.02-0.13, ran up to 100 m/s
     from 31 s and the run stopped at 39 s (a density of 1516 kg/m3)."""
     r2max = kp[KP_R2MAX]
+    ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
     for i in prange(x.shape[0]):
         if kind[i] != FLUID or body[i] != GHOST or not (every or reach[i]):
             continue
         xi = x[i]
         zi = z[i]
         ci = comp[i]
+        # beyond the open opening's reach (and everywhere while it is closed) a ghost sees
+        # the fluid of its compartment alone, as in the list loops: the pair rule is
+        # taken only near the opening
+        sees_opening = (xi - ocx) * (xi - ocx) + (zi - ocz) * (zi - ocz) <= or2
         a11 = a12 = a13 = a22 = a23 = a33 = 0.0
         r0 = r1 = r2_ = u0 = u1 = u2 = w0 = w1 = w2 = 0.0
         for k in range(src_start[i], src_start[i + 1]):
@@ -467,7 +472,10 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
             s = hs[j]
             if r2 >= r2max * s * s:
                 continue
-            if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+            if sees_opening:
+                if not sees(xi, zi, ci, x[j], z[j], kind[j], body[j], comp[j], op, kin):
+                    continue
+            elif comp[j] != ci:
                 continue
             vw = w_scaled(r2, kp, s) * m[j] / rho[j]
             a11 += vw
