@@ -74,7 +74,7 @@ from sph.engine.kernels import (
 from sph.engine.opening import in_sight, opening_circle, passable, wall_hidden
 from sph.engine.particles import FLUID, GHOST
 from sph.engine.shifting import PACKED, SH_COEF, shift_vector
-from sph.engine.surface import CLAMP, wall_pair_terms
+from sph.engine.surface import wall_pair_terms
 
 
 @njit(inline="always", **JIT)
@@ -399,7 +399,7 @@ _sums_uniform = _list_loop(ghosts=False, damping=False)
 _sums_variable = _list_loop(ghosts=True, damping=False)
 # numerics.wall_damping, for the particles with walls: a loop of its own (a test for the
 # damping in the loop, compiled for arrays of normals, cost every particle its
-# vectorisation; the loops without it are compiled only where normals are passed)
+# vectorisation); :func:`interact` inlines them only where normals are passed
 _sums_uniform_damped = _list_loop(ghosts=False, damping=True)
 _sums_variable_damped = _list_loop(ghosts=True, damping=True)
 
@@ -407,8 +407,7 @@ _sums_variable_damped = _list_loop(ghosts=True, damping=True)
 @njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, pk, start, inner, inner_end, variable, tension=CLAMP, surf=None,
-             gw=None, wnx=None, wnz=None):
+             sx, sz, pk, start, inner, inner_end, variable, tension, surf, gw, wnx, wnz):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
@@ -487,16 +486,18 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
             k1 = inner_end[i]
             # every pair of a list is of the particle's own level (pair_scale)
             s = hs[i] if variable else 1.0
-            # numerics.wall_damping: a particle with walls in reach takes the damped loop;
-            # without the damping (wnx None) the damped loops are not compiled in
+            # numerics.wall_damping: a particle with walls in reach takes the damped loop.
+            # Numba drops a branch on "wnx is not None" before it inlines the loops when
+            # wnx is None (not when it is an array: then the test stays, and holds), so that
+            # a run without the damping compiles no damped loop
             damped = False
             if wnx is not None:
                 damped = nxi != 0.0 or nzi != 0.0
-            if damped and variable:
+            if wnx is not None and damped and variable:
                 accx, accz, div, diff, shep = _sums_variable_damped(
                     gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
                     pwall, pfloor, nxi, nzi)
-            elif damped:
+            elif wnx is not None and damped:
                 accx, accz, div, diff, shep = _sums_uniform_damped(
                     gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
                     pwall, pfloor, nxi, nzi)
@@ -524,8 +525,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
 @njit(**JIT_PARALLEL)
 def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
                        ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho,
-                       op, kin, shift, sx, sz, tension=CLAMP, surf=None, gw=None, wnx=None,
-                       wnz=None):
+                       op, kin, shift, sx, sz, tension, surf, gw, wnx, wnz):
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0

@@ -417,8 +417,7 @@ def ghost_weight(a):
 
 @njit(**JIT_PARALLEL)
 def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp, hs,
-                 src_start, src_index, kp, op, kin, reach, every, grad_rho=(0.0, 0.0),
-                 gw=None):
+                 src_start, src_index, kp, op, kin, reach, every, grad_rho, gw):
     r"""Density and velocity of every ghost (:data:`sph.engine.particles.GHOST`) from the
     active fluid particles around it, of every level, each with its own kernel: the
     first-order moving least squares fit
@@ -442,7 +441,7 @@ def ghost_fields(x, z, vx, vz, rho, vx_old, vz_old, rho_old, m, kind, body, comp
     of their last fit in between). The candidates are the ghost's sources
     ``src_index[src_start[i]:src_start[i + 1]]`` (:func:`ghost_sources`).
 
-    ``gw`` (optional output): the weight each fitted ghost acts with on the active particles
+    ``gw`` (output, or None): the weight each fitted ghost acts with on the active particles
     (:func:`ghost_weight`; the pair loops scale its mass by it,
     :func:`sph.engine.fluid.interact`). A ghost fitted from a nearly empty kernel is not
     fluid that is there: in a spray its only source may be the particle it acts on, and

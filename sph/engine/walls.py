@@ -31,7 +31,7 @@ from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
 from sph.engine.opening import OP_GROUP, in_sight, near_opening, opening_circle, wall_hidden
 from sph.engine.particles import FLUID, GHOST, WALL
-from sph.engine.surface import CLAMP, wall_pair_terms
+from sph.engine.surface import wall_pair_terms
 
 KIN_COLUMNS = ("xc", "zc", "theta", "vxc", "vzc", "omega", "axc", "azc", "alpha")
 
@@ -87,7 +87,7 @@ def _fluid_seen(i, j, xi, zi, ci, b, hide, x, z, comp, hs, r2max, op, kin):
 
 @njit(**JIT_PARALLEL)
 def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, b_coef,
-                  gamma, vol0, op, start, inner, inner_end, clamp=True, reach=None):
+                  gamma, vol0, op, start, inner, inner_end, clamp, reach):
     """Extrapolate pressure and density onto every wall particle (Eqs. 11-13).
 
     A wall particle keeps its volume ``vol0 hs^2`` (= dx^2 at its refinement level; walls
@@ -144,7 +144,7 @@ def wall_pressure(x, z, rho, p, m, kind, body, comp, hs, kp, gx, gz, kin, rho0, 
 
 @njit(**JIT_PARALLEL)
 def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, mom, pf,
-                scale, op, start, inner, inner_end, tension=CLAMP, surf=None, reach=None):
+                scale, op, start, inner, inner_end, tension, surf, reach):
     r"""Pressure force and moment per unit length on each motion group (Eq. 10).
 
     .. math:: \mathbf{f}_j = -\frac{m_j}{\rho_j}\sum_{i\in f}(P_i + P_j)\nabla_j W_{ji}

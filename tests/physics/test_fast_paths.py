@@ -13,6 +13,7 @@ summation agree to round-off: the tolerance is 1e-10 of the largest value of eac
 
 import numpy as np
 import pytest
+from physics_helpers import NO_EXTRAS
 
 from sph.cases import builtin
 from sph.driver import Simulation
@@ -22,6 +23,7 @@ from sph.engine.kernels import f_r2, w_r2
 from sph.engine.opening import near_opening, wall_hidden
 from sph.engine.particles import FLUID, WALL
 from sph.engine.shifting import shift_params
+from sph.engine.surface import CLAMP
 from sph.engine.walls import wall_forces, wall_pressure
 
 RTOL = 1e-10
@@ -68,8 +70,8 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
     assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
     got = _derivatives(interact, ship, delta, ddt, shifting,
                       (pair_work(p.n), ship.nlist.start, ship.nlist.inner,
-                       ship.nlist.inner_end, False))
-    want = _derivatives(interact_reference, ship, delta, ddt, shifting)
+                       ship.nlist.inner_end, False, *NO_EXTRAS))
+    want = _derivatives(interact_reference, ship, delta, ddt, shifting, NO_EXTRAS)
     for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want, strict=True):
         scale = np.abs(b[fluid]).max()
         if name in ("ax", "az", "drho"):
@@ -84,9 +86,11 @@ def test_wall_pressure_matches_a_sum_over_all_particles(ship):
     p = ship.parts
     fl = ship.cfg.fluid
     rho, pres, m = p.rho.copy(), p.p.copy(), p.m.copy()
-    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, p.hs, ship.kp, ship.gx,
+    # the stepper's arguments at uniform resolution (no smoothing length ratios, every wall
+    # particle), so that the stepper's compiled loop is tested
+    wall_pressure(p.x, p.z, rho, pres, m, p.kind, p.body, p.comp, None, ship.kp, ship.gx,
                   ship.gz, ship.kin, fl.rho0, ship.b, fl.gamma, ship.cfg.numerics.dx**2,
-                  ship.op, ship.nlist.start, ship.nlist.inner, ship.nlist.inner_end)
+                  ship.op, ship.nlist.start, ship.nlist.inner, ship.nlist.inner_end, True, None)
     fluid = np.nonzero(p.kind == FLUID)[0]
     r2max = ship.kp[3]
     hidden_seen = 0
@@ -122,9 +126,9 @@ def test_wall_forces_match_a_sum_over_all_particles(ship):
     fx, fz, mom = np.zeros(nb), np.zeros(nb), np.zeros(nb)
     pf = np.zeros((p.n, 3))
     scale = np.ones(int(p.comp.max()) + 1)
-    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, ship.kp, ship.kin, nb,
+    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, None, ship.kp, ship.kin, nb,
                 fx, fz, mom, pf, scale, ship.op, ship.nlist.start, ship.nlist.inner,
-                ship.nlist.inner_end)
+                ship.nlist.inner_end, CLAMP, None, None)
     fluid = np.nonzero(p.kind == FLUID)[0]
     hull = np.nonzero((p.kind == WALL) & (p.body > 0))[0]
     assert len(hull) > 0

@@ -191,7 +191,7 @@ def _accelerations(sc, tension, surf, reference=False):
     m = sc.m.copy()
     wall_pressure(sc.x, sc.z, rho, p, m, sc.kind, sc.body, sc.comp, None, sc.kp, 0.0, 0.0,
                   fixed_kinematics(1), RHO0, b, 7.0, DX * DX, no_opening(), *sc.lists,
-                  tension != NONE)
+                  tension != NONE, None)
     out = [np.zeros(n) for _ in range(5)]
     zero = np.zeros(n)
     g = sc.grid
@@ -199,9 +199,9 @@ def _accelerations(sc, tension, surf, reference=False):
             g.cell_of, g.cell_start, g.ncx, sc.kp, 0.0, 0.0, 0.0, 0.0, 0.0, zero, zero,
             *out[:3], no_opening(), fixed_kinematics(1), np.zeros(3), *out[3:])
     if reference:
-        interact_reference(*args, tension, surf)
+        interact_reference(*args, tension, surf, None, None, None)
     else:
-        interact(*args, pair_work(n), *sc.lists, False, tension, surf)
+        interact(*args, pair_work(n), *sc.lists, False, tension, surf, None, None, None)
     return out[0], out[1], p
 
 

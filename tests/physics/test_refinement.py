@@ -34,6 +34,7 @@ from sph.engine.refinement import (
     wall_regions,
 )
 from sph.engine.shifting import shift_params
+from sph.engine.surface import CLAMP
 from sph.engine.walls import fixed_kinematics
 from sph.schema import ConfigError
 
@@ -267,7 +268,8 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     ghost_fields(x, z, work["vx"], work["vz"], work["rho"], old["vx"], old["vz"], old["rho"],
                  m, kind, body, kind, hs,
                  *ghost_sources(x, z, kind, body, hs, grid, support * 1.15), kp,
-                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True)
+                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True, (0.0, 0.0),
+                 np.ones(n))
     for k, v in fields.items():
         np.testing.assert_allclose(work[k][full], v[full], rtol=0,
                                    atol=1e-9 * np.abs(v).max(), err_msg=k)
@@ -281,7 +283,8 @@ def test_ghost_fields_are_exact_for_a_linear_field():
     ghost_fields(x, z, np.zeros(n), np.zeros(n), rho, np.zeros(n), np.zeros(n), np.zeros(n),
                  m, kind, body, kind, hs,
                  *ghost_sources(x, z, kind, body, hs, grid, support * 1.15), kp,
-                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True, (0.0, -9.0))
+                 no_opening(), fixed_kinematics(1), np.zeros(n, np.bool_), True, (0.0, -9.0),
+                 np.ones(n))
     fitted = ghost & (rho != 0.0)
     assert (fitted & ~full).sum() > 50
     np.testing.assert_allclose(rho[fitted], hydro[fitted], rtol=0, atol=1e-9 * 1000.0)
@@ -306,10 +309,10 @@ def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=
                 grid.cell_start, grid.ncx, kp, visc, 0.0, 0.0, 0.0, 0.0, x, x, *res[:3],
                 no_opening(), fixed_kinematics(1), shift, *res[3:])
         if general:
-            interact_reference(*args, gw=gw)
+            interact_reference(*args, CLAMP, None, gw, None, None)
         else:
             interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True,
-                     gw=gw)
+                     CLAMP, None, gw, None, None)
         out.append(res)
     return out
 

@@ -19,6 +19,7 @@ from sph.engine.kernels import kernel_params
 from sph.engine.neighbours import CellGrid
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, WALL
+from sph.engine.surface import CLAMP
 from sph.engine.walls import fixed_kinematics, wall_normals, walled
 
 DX = 0.1
@@ -68,9 +69,9 @@ def _accel(f, velocity, damping, reference=False):
             2.0 * 0.02 * f["kp"][1] * C0, 0.0, 0.0, 0.0, 0.0, f["x"], f["x"], *out[:3],
             no_opening(), fixed_kinematics(1), np.zeros(3), *out[3:])
     if reference:
-        interact_reference(*args, wnx=wn[0], wnz=wn[1])
+        interact_reference(*args, CLAMP, None, None, *wn)
     else:
-        interact(*args, pair_work(n), *f["lists"], False, wnx=wn[0], wnz=wn[1])
+        interact(*args, pair_work(n), *f["lists"], False, CLAMP, None, None, *wn)
     return np.array([out[0][i], out[1][i]])
 
 
