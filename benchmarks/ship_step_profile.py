@@ -21,7 +21,8 @@ run of this tree.
 
 ``--set`` (repeatable; :func:`step_server.parse_sets`) adds case-file values to the ship of
 both sides, e.g. the workflow's ``refined`` ship: ``--set geometry.refine_hull=2 --set
-numerics.wall_damping=true --set numerics.pressure_floor=-1e5``.
+numerics.wall_damping=true --set numerics.pressure_floor=-100000.0`` (YAML reads ``-1e5``,
+without a point, as text).
 """
 
 from __future__ import annotations

@@ -294,8 +294,10 @@ def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=
                 gw=None):
     """One call of the list loops (:func:`interact`) and one of the general loop
     (:func:`interact_reference`) on fluid particles sorted by ``grid``: each returns
-    ``ax, az, drho, sx, sz``. ``gw``: the ghosts' weights (None: every ghost acts fully)."""
+    ``ax, az, drho, sx, sz``. ``gw``: the ghosts' weights (None: every ghost acts fully,
+    passed as weights of 1 as the stepper does, so that its compiled loop is tested)."""
     n = len(x)
+    gw = np.ones(n) if gw is None else gw
     kind = np.zeros(n, np.int32)
     support = 3.0 * kp[1]
     nlist = NeighbourList()
@@ -311,7 +313,7 @@ def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=
         if general:
             interact_reference(*args, CLAMP, None, gw, None, None)
         else:
-            interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True,
+            interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, hs,
                      CLAMP, None, gw, None, None)
         out.append(res)
     return out
