@@ -85,7 +85,7 @@ def fluid_pair_loop(x, z, vx, vz, rho, m, grid, kp, *, visc_coef=0.0, gz=0.0,
              np.zeros(n, np.int32), np.ones(n), grid.cell_of, grid.cell_start, grid.ncx, kp,
              visc_coef, 0.0, gz, delta_coef, ddt_rho, zero, zero, ax, az, drho, no_opening(),
              fixed_kinematics(1), np.zeros(3) if shift is None else shift, sx, sz,
-             pair_work(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid), None,
+             pair_work(n), *verlet_lists(x, z, np.zeros(n, np.int32), grid), False,
              *NO_EXTRAS)
     return ax, az, drho, sx, sz
 

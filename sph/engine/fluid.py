@@ -407,7 +407,7 @@ _sums_variable_damped = _list_loop(ghosts=True, damping=True)
 @njit(**JIT_PARALLEL_PAIR)
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
-             sx, sz, pk, start, inner, inner_end, levels, tension, surf, gw, wnx, wnz):
+             sx, sz, pk, start, inner, inner_end, variable, tension, surf, gw, wnx, wnz):
     r"""Accelerations ``ax, az``, density rates ``drho`` and, when shifting is on, the
     particle shifts ``sx, sz`` (:mod:`sph.engine.shifting`) of all fluid particles.
 
@@ -417,7 +417,7 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
     ``inner[start[i]:inner_end[i]]`` (:class:`sph.engine.neighbours.NeighbourList`) with
     the kernel's own loop (:func:`_list_sums`), in the same order, the pairs of its own
     compartment; one within reach of an open damage opening adds what the opening
-    changes (:func:`_opening_terms`). Under variable resolution (``levels``,
+    changes (:func:`_opening_terms`). Under variable resolution (``variable``,
     :mod:`sph.engine.refinement`) a list holds the particle's own level only, so its loop
     takes the level's smoothing length ``hs[i] h`` for every pair.
     :func:`interact_reference` sums every particle the general way.
@@ -445,14 +445,10 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         :func:`pack_pair_data`).
     start, inner, inner_end : arrays
         The inner lists (:class:`sph.engine.neighbours.NeighbourList`).
-    levels : array or None
-        Under variable resolution, the smoothing length ratios ``hs`` (the list loops take
-        each particle's own); None at uniform resolution, so that the variable-resolution
-        loops are not compiled in.
     tension : int
         The rule of ``numerics.wall_tension`` for the pressure sum of a fluid and a wall
-        particle (:data:`sph.engine.surface.WALL_TENSION`; ``CLAMP``, the default of the
-        key: a wall never pulls).
+        particle (:data:`sph.engine.surface.WALL_TENSION`; default ``CLAMP``: a wall never
+        pulls).
     surf : bool array or None
         The free-surface flags (:func:`sph.engine.surface.free_surface`) under
         ``FREE_SURFACE``; None otherwise.
@@ -488,34 +484,31 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         else:
             k0 = start[i]
             k1 = inner_end[i]
-            # numerics.wall_damping: a particle with walls in reach takes the damped loop
+            # every pair of a list is of the particle's own level (pair_scale)
+            s = hs[i] if variable else 1.0
+            # numerics.wall_damping: a particle with walls in reach takes the damped loop.
+            # Numba drops a branch on "wnx is not None" before it inlines the loops when
+            # wnx is None (not when it is an array: then the test stays, and holds), so that
+            # a run without the damping compiles no damped loop
             damped = False
             if wnx is not None:
                 damped = nxi != 0.0 or nzi != 0.0
-            # numba drops a branch on an argument's "is None" before it inlines the loops
-            # when that argument is None (not when it is an array: the test then stays, and
-            # decides at run time), so that a run at uniform resolution compiles no
-            # variable-resolution loop, and one without the damping no damped loop
-            if levels is None:
-                s = 1.0
-                if wnx is not None and damped:
-                    accx, accz, div, diff, shep = _sums_uniform_damped(
-                        gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
-                        s, pwall, pfloor, nxi, nzi)
-                else:
-                    accx, accz, div, diff, shep = _sums_uniform(
-                        gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
-                        s, pwall, pfloor, nxi, nzi)
+            if wnx is not None and damped and variable:
+                accx, accz, div, diff, shep = _sums_variable_damped(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
+            elif wnx is not None and damped:
+                accx, accz, div, diff, shep = _sums_uniform_damped(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
+            elif variable:
+                accx, accz, div, diff, shep = _sums_variable(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
             else:
-                s = levels[i]  # every pair of a list is of the particle's own level
-                if wnx is not None and damped:
-                    accx, accz, div, diff, shep = _sums_variable_damped(
-                        gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
-                        s, pwall, pfloor, nxi, nzi)
-                else:
-                    accx, accz, div, diff, shep = _sums_variable(
-                        gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz,
-                        s, pwall, pfloor, nxi, nzi)
+                accx, accz, div, diff, shep = _sums_uniform(
+                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
+                    pwall, pfloor, nxi, nzi)
             if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
                 t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
                                    visc_coef, gx, gz, ddt_rho, op, kin, start, inner,

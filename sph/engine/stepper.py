@@ -385,7 +385,7 @@ class Stepper:
                  g.cell_of, g.cell_start, g.ncx, self.kp, self.visc_coef, self.gx, self.gz,
                  self.delta_coef, self.ddt_rho, self._grx, self._grz, p.ax, p.az, p.drho,
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
-                 self.nlist.inner, self.nlist.inner_end, hs, self.tension,
+                 self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
                  self._surf, self._gw, self._wnx, self._wnz)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)

@@ -70,7 +70,7 @@ def test_fast_pair_loop_matches_the_reference(ship, delta, ddt, shifting):
     assert 0 < near < 0.05 * fluid.sum(), near  # both paths are taken
     got = _derivatives(interact, ship, delta, ddt, shifting,
                       (pair_work(p.n), ship.nlist.start, ship.nlist.inner,
-                       ship.nlist.inner_end, None, *NO_EXTRAS))
+                       ship.nlist.inner_end, False, *NO_EXTRAS))
     want = _derivatives(interact_reference, ship, delta, ddt, shifting, NO_EXTRAS)
     for name, a, b in zip(("ax", "az", "drho", "sx", "sz"), got, want, strict=True):
         scale = np.abs(b[fluid]).max()

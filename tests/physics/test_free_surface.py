@@ -201,7 +201,7 @@ def _accelerations(sc, tension, surf, reference=False):
     if reference:
         interact_reference(*args, tension, surf, None, None, None)
     else:
-        interact(*args, pair_work(n), *sc.lists, None, tension, surf, None, None, None)
+        interact(*args, pair_work(n), *sc.lists, False, tension, surf, None, None, None)
     return out[0], out[1], p
 
 

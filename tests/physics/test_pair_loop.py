@@ -161,7 +161,7 @@ def _interact(st, grid, kp, op, kin, visc, gx, gz, delta, ddt_rho, shift):
              st["body"], st["comp"], np.ones(n), grid.cell_of, grid.cell_start, grid.ncx, kp,
              visc, gx, gz, delta, ddt_rho, st["grx"], st["grz"], out["ax"], out["az"],
              out["drho"], op, kin, shift, out["sx"], out["sz"], pair_work(n),
-             *verlet_lists(st["x"], st["z"], st["kind"], grid), None, *NO_EXTRAS)
+             *verlet_lists(st["x"], st["z"], st["kind"], grid), False, *NO_EXTRAS)
     return out
 
 

@@ -313,7 +313,7 @@ def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=
         if general:
             interact_reference(*args, CLAMP, None, gw, None, None)
         else:
-            interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, hs,
+            interact(*args, pair_work(n), nlist.start, nlist.inner, nlist.inner_end, True,
                      CLAMP, None, gw, None, None)
         out.append(res)
     return out

@@ -71,7 +71,7 @@ def _accel(f, velocity, damping, reference=False):
     if reference:
         interact_reference(*args, CLAMP, None, None, *wn)
     else:
-        interact(*args, pair_work(n), *f["lists"], None, CLAMP, None, None, *wn)
+        interact(*args, pair_work(n), *f["lists"], False, CLAMP, None, None, *wn)
     return np.array([out[0][i], out[1][i]])
 
 
