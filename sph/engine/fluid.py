@@ -404,7 +404,93 @@ _sums_uniform_damped = _list_loop(ghosts=False, damping=True)
 _sums_variable_damped = _list_loop(ghosts=True, damping=True)
 
 
-@njit(**JIT_PARALLEL_PAIR)
+def _interact_variant(gaussian: bool, diffusion: bool, variable: bool):
+    """The compiled body of :func:`interact` for one kernel (``gaussian``), with or without
+    the diffusive term (``diffusion``) and at uniform or variable resolution (``variable``).
+
+    The three are constants of the compiled code: numba drops the branches on them before
+    it inlines the list loops, so that each variant compiles the one list loop it runs (and
+    its damped twin where wall normals are passed), not all eight; a variant without the
+    diffusive term also drops the general sums. The closure holds only these three flags,
+    so that numba's cache tells the variants apart by them (a closure over a compiled
+    function would be keyed by that function's per-process identity and never be found
+    again)."""
+
+    @njit(**JIT_PARALLEL_PAIR)
+    def interact_variant(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
+                         ncx, kp, visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az,
+                         drho, op, kin, shift, sx, sz, pk, start, inner, inner_end, tension,
+                         surf, gw, wnx, wnz):
+        n = x.shape[0]
+        pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw)
+        hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
+        hz = -ddt_rho * gz
+        ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
+        for k in prange(n):
+            # numba types a prange index as int64 here and as uint64 in the parallel loop
+            # it builds: the callees below would be compiled for both
+            i = np.int64(k)
+            if kind[i] != FLUID or body[i] == GHOST:  # a ghost's rates are not used
+                continue
+            pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
+            nxi = 0.0 if wnx is None else wnx[i]
+            nzi = 0.0 if wnz is None else wnz[i]
+            # the renormalised diffusive term (it needs grx, grz) sums every pair the
+            # general way
+            if diffusion and ddt_rho == 0.0:
+                accx, accz, div, diff, shep = _sums_general(
+                    i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
+                    ncx, kp, visc_coef, gx, gz, ddt_rho, delta_coef != 0.0, grx, grz, op, kin,
+                    True, start, inner, inner_end, pwall, pfloor, gw, nxi, nzi)
+            else:
+                k0 = start[i]
+                k1 = inner_end[i]
+                # every pair of a list is of the particle's own level (pair_scale)
+                s = hs[i] if variable else 1.0
+                # numerics.wall_damping: a particle with walls in reach takes the damped
+                # loop. Numba drops a branch on "wnx is not None" before it inlines the
+                # loops when wnx is None (not when it is an array: then the test stays, and
+                # holds), so that a run without the damping compiles no damped loop
+                damped = nxi != 0.0 or nzi != 0.0
+                if wnx is not None and damped and variable:
+                    accx, accz, div, diff, shep = _sums_variable_damped(
+                        gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                        hz, s, pwall, pfloor, nxi, nzi)
+                elif wnx is not None and damped:
+                    accx, accz, div, diff, shep = _sums_uniform_damped(
+                        gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                        hz, s, pwall, pfloor, nxi, nzi)
+                elif variable:
+                    accx, accz, div, diff, shep = _sums_variable(
+                        gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                        hz, s, pwall, pfloor, nxi, nzi)
+                else:
+                    accx, accz, div, diff, shep = _sums_uniform(
+                        gaussian, diffusion, i, k0, k1, inner, pk, comp, kp, visc_coef, hx,
+                        hz, s, pwall, pfloor, nxi, nzi)
+                if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
+                    t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
+                                       visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
+                                       inner_end, s, pwall, pfloor, gw, nxi, nzi)
+                    accx += t[0]
+                    accz += t[1]
+                    div += t[2]
+                    diff += t[3]
+                    shep += t[4]
+            _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs,
+                    cell_of, cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin,
+                    shift, sx, sz)
+
+    return interact_variant
+
+
+#: the compiled variants of :func:`interact`, by (Gaussian kernel, diffusive term, variable
+#: resolution); numba compiles each on its first call
+_INTERACT = {(gaussian, diffusion, variable): _interact_variant(gaussian, diffusion, variable)
+             for gaussian in (False, True) for diffusion in (False, True)
+             for variable in (False, True)}
+
+
 def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp,
              visc_coef, gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift,
              sx, sz, pk, start, inner, inner_end, variable, tension, surf, gw, wnx, wnz):
@@ -447,8 +533,8 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         The inner lists (:class:`sph.engine.neighbours.NeighbourList`).
     tension : int
         The rule of ``numerics.wall_tension`` for the pressure sum of a fluid and a wall
-        particle (:data:`sph.engine.surface.WALL_TENSION`; default ``CLAMP``: a wall never
-        pulls).
+        particle (:data:`sph.engine.surface.WALL_TENSION`; ``CLAMP``, the key's default:
+        a wall never pulls).
     surf : bool array or None
         The free-surface flags (:func:`sph.engine.surface.free_surface`) under
         ``FREE_SURFACE``; None otherwise.
@@ -461,65 +547,10 @@ def interact(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
         its walls (:func:`sph.engine.walls.wall_normals`): the artificial viscosity damps
         its approach along it, the flow along the wall is left free. None: no damping.
     """
-    n = x.shape[0]
-    pack_pair_data(x, z, vx, vz, rho, p, m, kind, body, pk, gw)
-    use_delta = delta_coef != 0.0
-    # the renormalised term needs grx, grz
-    general = use_delta and ddt_rho == 0.0
-    hx = -ddt_rho * gx  # hydrostatic density difference of a pair: hx dx + hz dz
-    hz = -ddt_rho * gz
-    gauss = kp[KP_KIND] == 0.0
-    ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
-    for i in prange(n):
-        if kind[i] != FLUID or body[i] == GHOST:  # a ghost's rates are not used
-            continue
-        pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
-        nxi = 0.0 if wnx is None else wnx[i]
-        nzi = 0.0 if wnz is None else wnz[i]
-        if general:
-            accx, accz, div, diff, shep = _sums_general(
-                i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx,
-                kp, visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, True, start,
-                inner, inner_end, pwall, pfloor, gw, nxi, nzi)
-        else:
-            k0 = start[i]
-            k1 = inner_end[i]
-            # every pair of a list is of the particle's own level (pair_scale)
-            s = hs[i] if variable else 1.0
-            # numerics.wall_damping: a particle with walls in reach takes the damped loop.
-            # Numba drops a branch on "wnx is not None" before it inlines the loops when
-            # wnx is None (not when it is an array: then the test stays, and holds), so that
-            # a run without the damping compiles no damped loop
-            damped = False
-            if wnx is not None:
-                damped = nxi != 0.0 or nzi != 0.0
-            if wnx is not None and damped and variable:
-                accx, accz, div, diff, shep = _sums_variable_damped(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
-            elif wnx is not None and damped:
-                accx, accz, div, diff, shep = _sums_uniform_damped(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
-            elif variable:
-                accx, accz, div, diff, shep = _sums_variable(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
-            else:
-                accx, accz, div, diff, shep = _sums_uniform(
-                    gauss, use_delta, i, k0, k1, inner, pk, comp, kp, visc_coef, hx, hz, s,
-                    pwall, pfloor, nxi, nzi)
-            if (x[i] - ocx) * (x[i] - ocx) + (z[i] - ocz) * (z[i] - ocz) <= or2:
-                t = _opening_terms(i, x, z, vx, vz, rho, p, m, kind, body, comp, kp,
-                                   visc_coef, gx, gz, ddt_rho, op, kin, start, inner,
-                                   inner_end, s, pwall, pfloor, gw, nxi, nzi)
-                accx += t[0]
-                accz += t[1]
-                div += t[2]
-                diff += t[3]
-                shep += t[4]
-        _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
-                cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
+    _INTERACT[bool(kp[KP_KIND] == 0.0), bool(delta_coef != 0.0), bool(variable)](
+        x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start, ncx, kp, visc_coef,
+        gx, gz, delta_coef, ddt_rho, grx, grz, ax, az, drho, op, kin, shift, sx, sz, pk, start,
+        inner, inner_end, tension, surf, gw, wnx, wnz)
 
 
 @njit(**JIT_PARALLEL)
