@@ -560,7 +560,8 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, c
     """:func:`interact` with every particle summed by :func:`_sums_general` over the cells,
     one rule at a time (the test oracle of the fast loop and of the lists)."""
     use_delta = delta_coef != 0.0
-    for i in prange(x.shape[0]):
+    for k in prange(x.shape[0]):
+        i = np.int64(k)  # as in interact: the callees compiled for one index type
         if kind[i] != FLUID:
             continue
         pwall, pfloor = wall_pair_terms(p[i], tension, surf, i)
