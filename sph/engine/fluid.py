@@ -399,7 +399,7 @@ _sums_uniform = _list_loop(ghosts=False, damping=False)
 _sums_variable = _list_loop(ghosts=True, damping=False)
 # numerics.wall_damping, for the particles with walls: a loop of its own (a test for the
 # damping in the loop, compiled for arrays of normals, cost every particle its
-# vectorisation); :func:`interact` inlines them only where normals are passed
+# vectorisation); the variants of :func:`interact` inline them only where normals are passed
 _sums_uniform_damped = _list_loop(ghosts=False, damping=True)
 _sums_variable_damped = _list_loop(ghosts=True, damping=True)
 

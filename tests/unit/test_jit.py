@@ -39,3 +39,26 @@ def test_compiled_kernels_are_cached_per_version_of_the_engine(tmp_path):
     """)
     subprocess.run([sys.executable, "-c", code], env=env, check=True)
     assert list((tmp_path / "cache" / ("numba-" + before)).rglob("*.nbi"))
+
+
+def test_the_fluid_loop_variants_are_found_again_in_the_cache():
+    """Numba keys a cached closure by a hash of its cells, pickled. The fluid loop's compiled
+    variants (``sph.engine.fluid._INTERACT``) close over their three flags alone, and two
+    processes hash them alike; a compiled function in a cell would pickle with an identity
+    of its own process, and the variant would be compiled anew by every run."""
+    from sph.engine.fluid import _INTERACT
+
+    for key, variant in _INTERACT.items():
+        cells = tuple(c.cell_contents for c in variant.py_func.__closure__)
+        assert sorted(cells) == sorted(key), key
+    code = textwrap.dedent("""
+        import hashlib
+        from numba.core.serialize import dumps
+        from sph.engine.fluid import _INTERACT
+        for key in sorted(_INTERACT):
+            cells = tuple(c.cell_contents for c in _INTERACT[key].py_func.__closure__)
+            print(key, hashlib.sha256(dumps(cells)).hexdigest())
+    """)
+    runs = [subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
+                           text=True).stdout for _ in range(2)]
+    assert runs[0] == runs[1] and len(runs[0].splitlines()) == 8
