@@ -479,7 +479,7 @@ def _interact_variant(gaussian: bool, diffusion: bool, variable: bool):
                     shep += t[4]
             _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs,
                     cell_of, cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin,
-                    shift, sx, sz)
+                    shift, sx, sz, (start, inner, inner_end))
 
     return interact_variant
 
@@ -572,19 +572,21 @@ def interact_reference(x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, c
             visc_coef, gx, gz, ddt_rho, use_delta, grx, grz, op, kin, False, cell_start,
             cell_of, cell_start, pwall, pfloor, gw, nxi, nzi)
         _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
-                cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz)
+                cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz,
+                None)
 
 
 @njit(inline="always", **JIT)
 def _finish(i, accx, accz, div, diff, shep, x, z, rho, m, kind, body, comp, hs, cell_of,
-            cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz):
+            cell_start, ncx, kp, gx, gz, delta_coef, ax, az, drho, op, kin, shift, sx, sz,
+            lists):
     ax[i] = accx + gx
     az[i] = accz + gz
     drho[i] = rho[i] * div + delta_coef * diff
     if shift[SH_COEF] != 0.0:
         if shep > PACKED:  # the gate of shift_vector is closed below PACKED
             sx[i], sz[i] = shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs,
-                                        cell_of, cell_start, ncx, kp, op, kin, shift)
+                                        cell_of, cell_start, ncx, kp, op, kin, shift, lists)
         else:
             sx[i] = 0.0
             sz[i] = 0.0
