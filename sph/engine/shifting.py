@@ -106,9 +106,10 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
     r"""Shift of fluid particle ``i`` whose kernel sum :math:`\sum_j V_j W_{ij}` (itself
     included) is ``shep``; ``shift = [coef, W(dx), cap]``. Zero unless the particle is
     packed; then the concentration gradient and the divergence of the position are summed
-    over the neighbours the momentum equation sees. ``lists``: ``(start, inner, inner_end)``, the
-    particle's inner list, the candidates to sum over; None: the 3 x 3 cells of ``cell_of``
-    (the reference loop), in which a fine particle tests about 25 times as many. Under variable resolution the pairs take
+    over the neighbours the momentum equation sees. ``lists``: ``(start, inner,
+    inner_end)``, the particle's inner list, the candidates to sum over; None: the 3 x 3
+    cells of ``cell_of`` (the reference loop), in which a fine particle tests about 25 times
+    as many. Under variable resolution the pairs take
     their own smoothing lengths (``hs``, :mod:`sph.engine.refinement`) and the coefficient,
     :math:`W(\Delta x)` and the cap follow the particle's own spacing; the ghosts count
     neither in the kernel sum nor in the gradient: a ghost is fitted, not pushed, and does
