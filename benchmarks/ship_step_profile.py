@@ -19,6 +19,11 @@ run of this tree.
     python benchmarks/ship_step_profile.py [--threads 1] [--steps 300] [--repeat 3]
         [--baseline 846fe50 | none] [--blocks 60] [--block 20] [--set KEY=VALUE ...]
 
+``--checkpoint CASE.yaml CKPT.npz`` times a late state instead: the case file and one of
+its checkpoints (``OUT.nc.ckpt/step-*.npz`` of a workflow run), at ``--threads``; no
+baseline (the checkpoint's configuration ties it to this tree's case format). The calm
+start the built-in ship gives misses what a flooded, sloshing state costs.
+
 ``--set`` (repeatable; :func:`step_server.parse_sets`) adds case-file values to the ship of
 both sides, e.g. the workflow's ``refined`` ship: ``--set geometry.refine_hull=2 --set
 numerics.wall_damping=true --set numerics.pressure_floor=-100000.0`` (YAML reads ``-1e5``,
@@ -38,13 +43,17 @@ from compare import ROOT, lockstep, run_child, worktree
 from step_server import damaged_ship, parse_sets
 
 from sph.engine import stepper as solver
-from sph.engine.neighbours import CellGrid
+from sph.engine.neighbours import CellGrid, NeighbourList
 from sph.engine.particles import Particles
 
 #: engine stages called from the solver module (numba kernels)
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
           "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
-          "max_speed_accel", "wall_normals", "walled", "ghost_fields", "cavitation_floor")
+          "max_speed_accel", "wall_normals", "walled", "ghost_fields", "cavitation_floor",
+          "moved_or_outside")
+#: methods of the simulation that hold no timed stage: the refinement's spawning and
+#: merging, the ghosts' sources
+METHODS = ("_refine", "_mark_ghosts")
 
 
 def _timed(fn, name, timers):
@@ -56,21 +65,39 @@ def _timed(fn, name, timers):
     return wrapper
 
 
+def from_checkpoint(case_file: str, checkpoint: str, threads: int):
+    """A simulation restored from ``checkpoint``, a checkpoint of the run of ``case_file``,
+    with ``threads`` numba threads."""
+    from sph.cases import load_case
+    from sph.driver import Simulation
+    from sph.io.checkpoint import load_checkpoint, restore
+
+    sim = Simulation(load_case(case_file, [f"numerics.threads={threads}"]))
+    restore(sim, load_checkpoint(checkpoint), checkpoint)
+    return sim
+
+
 def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: int,
-            shifting: float, extra=()) -> tuple[int, float, dict]:
+            shifting: float, extra=(), checkpoint=None) -> tuple[int, float, dict]:
     timers: dict[str, float] = collections.defaultdict(float)
     originals = {name: getattr(solver, name) for name in STAGES if hasattr(solver, name)}
     sort, permute = CellGrid.sort, Particles.permute
+    build, refresh = NeighbourList.build, NeighbourList.refresh
     try:
         for name, fn in originals.items():
             setattr(solver, name, _timed(fn, name, timers))
         CellGrid.sort = _timed(sort, "cell sort", timers)
         Particles.permute = _timed(permute, "permute", timers)
-        sim = damaged_ship(dx, damage_period, threads, shifting, extra)
+        NeighbourList.build = _timed(build, "list build", timers)
+        NeighbourList.refresh = _timed(refresh, "inner list refresh", timers)
+        sim = (damaged_ship(dx, damage_period, threads, shifting, extra) if checkpoint is None
+               else from_checkpoint(*checkpoint, threads))
         for event in sim.setup.events:
             event.apply = _timed(event.apply, type(event).__name__, timers)
         for body in sim.bodies:
             body.update = _timed(body.update, "rigid body", timers)
+        for name in METHODS:
+            setattr(sim, name, _timed(getattr(sim, name), name.strip("_"), timers))
         sim.evaluate()
         for _ in range(warmup):
             sim.advance()
@@ -83,6 +110,7 @@ def measure(dx: float, damage_period: float, steps: int, warmup: int, threads: i
         for name, fn in originals.items():
             setattr(solver, name, fn)
         CellGrid.sort, Particles.permute = sort, permute
+        NeighbourList.build, NeighbourList.refresh = build, refresh
     stages = dict(sorted(timers.items(), key=lambda kv: -kv[1]))
     stages["other"] = wall - sum(timers.values())
     return sim.parts.n, sim.parts.n * steps / wall, {k: v / wall for k, v in stages.items()}
@@ -101,19 +129,27 @@ def main() -> None:
     ap.add_argument("--blocks", type=int, default=60)
     ap.add_argument("--block", type=int, default=20)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--checkpoint", nargs=2, default=None, metavar=("CASE", "CKPT"),
+                    help="time the state of a checkpoint CKPT of the run of case file CASE")
     args = ap.parse_args()
-    if args.baseline != "none":
+    default_baseline = args.baseline in ("none", ap.get_default("baseline"))
+    if args.checkpoint is not None and (args.set or not default_baseline):
+        ap.error("--checkpoint takes neither --set nor --baseline (the case file fixes the ship)")
+    if args.baseline != "none" and args.checkpoint is None:
         compare_with(args)
         return
     rates = []
     for _ in range(args.repeat):
         n, rate, shares = measure(args.dx, args.damage_period, args.steps, args.warmup,
-                                  args.threads, args.shifting, parse_sets(args.set))
+                                  args.threads, args.shifting, parse_sets(args.set),
+                                  args.checkpoint)
         rates.append(rate)
     for name, share in shares.items():
         print(f"{name:32s} {100 * share:5.1f} %")
     med = statistics.median(rates)
-    print(f"damaged_ship dx = {args.dx:g} m  N = {n}  {med / 1e6:.2f} M particle-steps/s "
+    what = (f"checkpoint {args.checkpoint[1]}" if args.checkpoint else
+            f"damaged_ship dx = {args.dx:g} m")
+    print(f"{what}  N = {n}  {med / 1e6:.2f} M particle-steps/s, {1e3 * n / med:.1f} ms/step "
           f"(runs: {', '.join(f'{r / 1e6:.2f}' for r in rates)}; {args.threads} thread(s))")
     print(json.dumps({"particles": n, "particle_steps_per_s": round(med), "runs":
                       [round(r) for r in rates], "threads": args.threads, "dx": args.dx,

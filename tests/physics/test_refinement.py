@@ -319,6 +319,40 @@ def _pair_loops(x, z, vx, vz, rho, pres, m, body, hs, grid, kp, visc=0.0, shift=
     return out
 
 
+def test_ghost_sources_are_every_active_particle_in_its_own_reach_in_index_order():
+    """Each ghost's sources (:func:`ghost_sources`, searched in cells of each level's own
+    radius) are exactly the active particles ``j`` within the list radius times ``hs[j]``,
+    in ascending index, the order the coarse cells gave and :func:`ghost_fields` sums in;
+    ghosts beyond a level's particles (outside its cells) included."""
+    rng = np.random.default_rng(7)
+    n = 3000
+    x = rng.uniform(0.0, 6.0, n)
+    z = rng.uniform(0.0, 3.0, n)
+    hs = 2.0 ** -rng.integers(0, 3, n)
+    body = np.where(rng.random(n) < 0.3, GHOST, -1).astype(np.int32)
+    kind = np.where(rng.random(n) < 0.1, 1, FLUID).astype(np.int32)  # some walls
+    fine = hs < 1.0  # the finer levels' particles crowd the left
+    x[fine] *= 0.5
+    radius = 0.9
+    grid = CellGrid(0.0, 6.0, 0.0, 3.0, radius)
+    x, z, hs, body, kind = sort_by_cells(grid, x, z, hs, body, kind)
+    start, index = ghost_sources(x, z, kind, body, hs, grid, radius)
+    active = (kind == FLUID) & (body != GHOST)
+    ghosts = np.nonzero((kind == FLUID) & (body == GHOST))[0]
+    found = 0
+    for i in range(n):
+        got = index[start[i]:start[i + 1]]
+        if i not in ghosts:
+            assert len(got) == 0
+            continue
+        want = np.nonzero(active & ((x - x[i]) ** 2 + (z - z[i]) ** 2
+                                    < (radius * hs) ** 2))[0]
+        np.testing.assert_array_equal(got, want, err_msg=f"ghost {i}")
+        found += len(want)
+    assert found > 5 * len(ghosts)  # not an empty comparison
+    assert len(set(levels(hs[index]))) == 3
+
+
 def test_levels_do_not_interact():
     """The active particles of a level feel only their own level: the accelerations of the
     fine particles do not change when the coarse ghosts inside their box change."""
