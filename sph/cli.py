@@ -6,6 +6,15 @@ command again after a kill, a pre-emption or a full disk continues the run. ``--
 deletes the checkpoints and starts from t = 0; ``--no-restart`` never starts from t = 0 (it
 fails when there is nothing to resume).
 
+``--start-from CKPT`` starts, instead of from t = 0, from another run's checkpoint (a file,
+or a checkpoint directory: its newest) whose case differs from this one only in
+``geometry.damage`` (the opening, its side, or none: an intact ship), taken before the
+opening of either appears: before t1 the opening does nothing, so the run continues as if
+it had run from t = 0, to the bit, and its output holds the other run's samples up to
+there. The cases of a sweep that differ in the opening alone share their run to t1 this
+way (the workflow's ``predamage`` runs). A run that has checkpoints of its own resumes from
+them instead.
+
 Exit status:
 
 == ==================================================================================
@@ -32,7 +41,7 @@ from pathlib import Path
 from sph import __version__
 from sph.cases import CASES, example_text, load_case
 from sph.driver import RunInterrupted, Simulation, SimulationError
-from sph.io.checkpoint import checkpoint_dir, resume_or_start
+from sph.io.checkpoint import CheckpointError, checkpoint_dir, resume_or_start, start_from
 from sph.schema import ConfigError
 
 
@@ -60,6 +69,12 @@ def _parser() -> argparse.ArgumentParser:
     again.add_argument("--no-restart", dest="resume", action="store_const", const="resume",
                        help="never start from t = 0: resume from the newest valid "
                        "checkpoint, fail (exit 2) if there is none")
+
+    run.add_argument("--start-from", type=Path, default=None, metavar="CKPT",
+                     help="start from another run's checkpoint (file or checkpoint "
+                     "directory) of a case that differs from this one in geometry.damage "
+                     "alone, taken before the opening appears (instead of from t = 0; a "
+                     "run with checkpoints of its own resumes from them)")
 
     ex = sub.add_parser("example", help="print the YAML of a built-in case")
     ex.add_argument("name", help="case name (see `sph cases`)")
@@ -126,9 +141,20 @@ def _run(args) -> int:
     except ConfigError as exc:  # another configuration, or nothing to resume
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    seed = None
+    if resumed is None and args.start_from is not None:
+        try:
+            seed = start_from(sim, args.start_from)
+        except (ConfigError, CheckpointError) as exc:  # another case, or past the opening
+            print(f"error: cannot start from {str(args.start_from)!r}: {exc}",
+                  file=sys.stderr)
+            return 2
     if resumed is not None:
         log.info("resuming from checkpoint %s at t = %.6g s (step %d)", resumed, sim.t,
                  sim.step)
+    elif seed is not None:
+        log.info("starting from checkpoint %s of another run at t = %.6g s (step %d)", seed,
+                 sim.t, sim.step)
     try:
         sim.run(out, progress=not args.no_progress, vtk_dir=args.vtk, checkpoint_dir=ckpt)
     except SimulationError as exc:

@@ -76,8 +76,8 @@ class Simulation(Stepper):
             out[name] = np.array(tp(getattr(self, name)))
         return out
 
-    def set_state(self, state: dict[str, np.ndarray]) -> None:
-        super().set_state(state)
+    def set_state(self, state: dict[str, np.ndarray], seed: bool = False) -> None:
+        super().set_state(state, seed)
         for name, tp in SCHEDULE_SCALARS.items():
             setattr(self, name, tp(state[name][()]))
 

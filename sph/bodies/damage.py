@@ -78,6 +78,11 @@ class DamageOpening:
         hidden across the opening; the count is reported).
     """
 
+    #: before t1 the opening does nothing and its state is its initial one: a run may start
+    #: from the state of a case that differs from it in the opening alone, or is intact
+    #: (:meth:`sph.engine.stepper.Stepper.set_state` with ``seed``)
+    SEEDLESS = True
+
     def __init__(self, time: float, params: np.ndarray, opening_pids: np.ndarray):
         self.time = float(time)
         self.params = np.asarray(params, dtype=np.float64)
@@ -90,12 +95,24 @@ class DamageOpening:
         :class:`HullGuard`). Places the opening's quick-test circle at the current
         kinematics."""
         place_centre(self.params, sim.kin[group_of(self.params)])
-        if not self.is_open and sim.t >= self.time - 1e-12 * max(1.0, self.time):
+        if not self.is_open and self.started_by(sim.t):
             self.is_open = True
             set_open(self.params, True)
             log.info("t = %.4g s (step %d): damage opening appears; the %d wall particles of "
                      "its plating are hidden across it", sim.t, sim.step,
                      len(self.opening_pids))
+
+    @property
+    def started(self) -> bool:
+        """Whether the opening has appeared."""
+        return self.is_open
+
+    def started_by(self, t: float) -> bool:
+        """Whether the opening has appeared by time ``t`` (as :meth:`apply` decides)."""
+        return t >= self.time - 1e-12 * max(1.0, self.time)
+
+    def describe(self) -> str:
+        return f"the damage opening appears at t1 = {self.time:.6g} s"
 
     def get_state(self) -> dict:
         return {"is_open": np.array(int(self.is_open)), "centre": centre(self.params)}

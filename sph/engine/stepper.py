@@ -444,6 +444,33 @@ class Stepper:
         self._mark_ghosts()
         self._rebuilt = True
 
+    def _seed_pairs(self, state: dict[str, np.ndarray]) -> list[tuple[int, int, object]]:
+        """``(index in the seed state, own index, object)`` of the stateful objects that
+        take a seed state's (:meth:`set_state` with ``seed``): those that are not
+        ``SEEDLESS``, matched in order by type."""
+        if "stateful.types" not in state:
+            raise StateMismatch("the state names no object types (written by an earlier "
+                                "version): it can only resume its own run")
+        types = str(state["stateful.types"]).split()
+        started = state["stateful.started"]
+        t = float(state["t"])
+        if np.any(started):
+            k = int(np.argmax(started))
+            raise StateMismatch(f"its {types[k]} had already acted at t = {t:.6g} s")
+        own = [(k, obj) for k, obj in enumerate(self.stateful)
+               if not getattr(obj, "SEEDLESS", False)]
+        for obj in self.stateful:
+            if getattr(obj, "SEEDLESS", False) and obj.started_by(t):
+                raise StateMismatch(f"it is at t = {t:.6g} s, not before this case's "
+                                    f"{type(obj).__name__} acts ({obj.describe()})")
+        theirs = [k for k, free in enumerate(state["stateful.seedless"]) if not free]
+        if [types[k] for k in theirs] != [type(obj).__name__ for _, obj in own]:
+            mine = " ".join(type(o).__name__ for o in self.stateful)
+            raise StateMismatch(f"its objects ({' '.join(types) or 'none'}) are not this "
+                                f"case's ({mine or 'none'}) apart from events that have not "
+                                "acted")
+        return [(k, j, obj) for k, (j, obj) in zip(theirs, own, strict=True)]
+
     def _mark_ghosts(self) -> None:
         """The ghosts and walls within reach of active particles (:func:`in_reach`), the
         particles each ghost is fitted from (:func:`ghost_sources`) and the wall particles
@@ -621,21 +648,37 @@ class Stepper:
         for key, values in rec.series.items():
             out[f"record.series.{key}"] = np.asarray(values, dtype=np.float64)
         out["stateful.count"] = np.array(len(self.stateful))
+        # what each object is, so that another case can start from this state
+        # (:meth:`set_state` with ``seed``)
+        out["stateful.types"] = np.array(" ".join(type(o).__name__ for o in self.stateful))
+        seedless = [bool(getattr(o, "SEEDLESS", False)) for o in self.stateful]
+        out["stateful.seedless"] = np.array(seedless, dtype=np.bool_)
+        out["stateful.started"] = np.array([f and o.started for f, o in
+                                            zip(seedless, self.stateful, strict=True)],
+                                           dtype=np.bool_)
         for k, obj in enumerate(self.stateful):
             for key, value in obj.get_state().items():
                 out[f"stateful.{k}.{key}"] = np.asarray(value)
         return out
 
-    def set_state(self, state: dict[str, np.ndarray]) -> None:
+    def set_state(self, state: dict[str, np.ndarray], seed: bool = False) -> None:
         """Put a state of :meth:`get_state` into this stepper (built from the same
         configuration); the derivatives come with it, so no evaluation is needed before the
         next :meth:`advance`.
+
+        ``seed``: the state is another case's, one that differs from this one only in
+        objects whose state before their event is their initial one (class attribute
+        ``SEEDLESS``: the damage opening, which does nothing before t1), taken before any
+        such object of either case has acted (``started``, ``started_by(t)``). Those
+        objects keep their own state, the others take the seed's in order. The state the
+        particles reach before the event is the same whatever the event, so this case
+        continues as from t = 0 (``sph run --start-from``).
 
         Raises
         ------
         StateMismatch
             If the state does not fit (other particle fields, wall groups or objects, or
-            particles not in cell order).
+            particles not in cell order; with ``seed``, an event already passed).
         """
         fields = str(state["particles.fields"])
         if fields != " ".join(FLOAT_FIELDS) + " | " + " ".join(INT_FIELDS):
@@ -646,7 +689,9 @@ class Stepper:
         if state["kin"].shape != self.kin.shape:
             raise StateMismatch(f"{state['kin'].shape[0]} wall groups, this case has "
                                 f"{self.kin.shape[0]}")
-        if int(state["stateful.count"]) != len(self.stateful):
+        pairs = (self._seed_pairs(state) if seed else
+                 [(k, k, obj) for k, obj in enumerate(self.stateful)])
+        if not seed and int(state["stateful.count"]) != len(self.stateful):
             raise StateMismatch(f"{int(state['stateful.count'])} stateful objects, this case "
                                 f"has {len(self.stateful)}")
         parts = Particles(f.shape[1])
@@ -662,7 +707,7 @@ class Stepper:
             self.boxes[:] = state["boxes"]
         for name, tp in STATE_SCALARS.items():
             setattr(self, name, tp(state[name][()]))
-        for k, obj in enumerate(self.stateful):
+        for k, _, obj in pairs:
             prefix = f"stateful.{k}."
             try:
                 obj.set_state({key[len(prefix):]: value for key, value in state.items()

@@ -68,6 +68,12 @@ RESUMABLE_KEYS = frozenset({
     "run.max_lost_fraction",
 })
 
+#: config keys in which a run may differ from the run whose checkpoint it starts from
+#: (:func:`start_from`, ``sph run --start-from``): the damage opening, which does nothing
+#: before t1
+SEED_KEYS = ("geometry.damage.",)
+
+
 class CheckpointError(RuntimeError):
     """A checkpoint file that cannot be used (unreadable, truncated, corrupt, or of another
     format); the message names the file."""
@@ -76,14 +82,18 @@ class CheckpointError(RuntimeError):
 class CheckpointMismatch(ConfigError):
     """A checkpoint written for another configuration; ``keys`` lists the differing keys."""
 
-    def __init__(self, directory: Path, differences: list[tuple[str, Any, Any]]):
+    def __init__(self, directory: Path, differences: list[tuple[str, Any, Any]],
+                 seed: bool = False):
         self.keys = [k for k, _, _ in differences]
         shown = "; ".join(f"{k} = {_short(old)} there, {_short(new)} here"
                           for k, old, new in differences[:8])
         more = f" (and {len(differences) - 8} more)" if len(differences) > 8 else ""
+        advice = ("a run starts from another's checkpoint only if they differ in "
+                  f"{', '.join(k + '*' for k in SEED_KEYS)} alone" if seed else
+                  "start over with --restart (or delete that directory), or restore these "
+                  "values")
         super().__init__(", ".join(self.keys), f"the checkpoint in {str(directory)!r} was "
-                         f"written for another configuration: {shown}{more}; start over "
-                         "with --restart (or delete that directory), or restore these values")
+                         f"written for another configuration: {shown}{more}; {advice}")
 
 
 def _short(value) -> str:
@@ -249,27 +259,35 @@ def config_differences(stored_yaml: str, cfg) -> list[tuple[str, Any, Any]]:
     return diffs
 
 
-def restore(sim, arrays: dict[str, np.ndarray], source: str | os.PathLike[str] = "") -> None:
+def restore(sim, arrays: dict[str, np.ndarray], source: str | os.PathLike[str] = "",
+            seed: bool = False) -> None:
     """Put the state of a checkpoint into a freshly built :class:`~sph.driver.Simulation`.
+
+    ``seed``: the checkpoint is another run's, whose configuration may differ from this
+    one's in the :data:`SEED_KEYS` (the damage opening), taken before the opening of
+    either appeared (:meth:`sph.engine.stepper.Stepper.set_state`): this run continues
+    from it as from t = 0, to the bit, its output holding the samples before it.
 
     Raises
     ------
     CheckpointMismatch
         If the checkpoint was written for another configuration.
     CheckpointError
-        If its content does not fit this simulation (other particle fields or objects).
+        If its content does not fit this simulation (other particle fields or objects;
+        with ``seed``, taken after an opening appeared).
     """
     where = Path(source).parent if source else Path(".")
     stored = str(arrays["config"])
-    diffs = config_differences(stored, sim.cfg)
+    diffs = [d for d in config_differences(stored, sim.cfg)
+             if not (seed and d[0].startswith(SEED_KEYS))]
     if diffs:
-        raise CheckpointMismatch(where, diffs)
+        raise CheckpointMismatch(where, diffs, seed)
     if str(arrays["version"]) != __version__:
         log.warning("checkpoint %s was written by sph-flood %s, this is %s: the resumed run "
                     "may differ from an uninterrupted one", source, arrays["version"],
                     __version__)
     try:
-        sim.set_state(arrays)
+        sim.set_state(arrays, seed=seed)
     except (StateMismatch, KeyError) as exc:
         raise CheckpointError(f"checkpoint {str(source)!r} does not fit this case: {exc}"
                               ) from exc
@@ -285,6 +303,27 @@ def restore(sim, arrays: dict[str, np.ndarray], source: str | os.PathLike[str] =
 
 class NoCheckpoint(ConfigError):
     """``mode="resume"`` found nothing to resume."""
+
+
+def start_from(sim, source: str | os.PathLike[str]) -> Path:
+    """Start ``sim`` from another run's checkpoint ``source`` (a checkpoint file, or a
+    checkpoint directory: its newest valid checkpoint), as :func:`restore` with ``seed``.
+
+    Returns the checkpoint file. Raises :class:`NoCheckpoint` when there is none, and
+    :class:`CheckpointError` (unreadable, or not fitting this case) or
+    :class:`CheckpointMismatch` as :func:`restore`."""
+    src = Path(source)
+    if src.is_dir():
+        found = find_checkpoint(src)
+        if found is None:
+            raise NoCheckpoint("", f"no valid checkpoint to start from in {str(src)!r}")
+        path, arrays = found
+    elif src.is_file():
+        path, arrays = src, load_checkpoint(src)
+    else:
+        raise NoCheckpoint("", f"no checkpoint to start from at {str(src)!r}")
+    restore(sim, arrays, path, seed=True)
+    return path
 
 
 def resume_or_start(sim, directory: str | os.PathLike[str], mode: str = "auto"):

@@ -668,6 +668,54 @@ def ship_overrides(row: Mapping, sweep: Mapping) -> dict:
     return over
 
 
+#: the case-file keys of the damage opening: ship runs that differ in these alone are the
+#: same run until the opening appears at t1 (:func:`predamage_runs`)
+DAMAGE_PREFIX = "geometry.damage."
+#: of those, the one that also sets when the runs part
+DAMAGE_TIME_KEY = "geometry.damage.time_periods"
+
+
+def predamage_runs(ship: Mapping[str, Mapping]) -> dict[str, dict]:
+    """The runs to t1 that ship runs share: ``ship`` maps each case id to its overrides
+    (:func:`ship_overrides`); the runs that differ only in the damage opening (its size,
+    its side, or none) are one and the same run until the opening appears at t1
+    (:meth:`sph.engine.stepper.Stepper.set_state` with ``seed``), so each group of two or
+    more runs the intact ship once, to the last output sample before t1, and its cases
+    start from that run's last checkpoint (``sph run --start-from``). In Table I cases 1-5
+    share 3.18 of their 12 periods.
+
+    Returns ``{run id: {"cases": [case ids], "overrides": the shared run's values,
+    "digest": its :func:`configuration_digest`}}``; the run id is ``predamage_`` and the
+    group's first case id. Its values are the group's with
+    the opening 0, ``run.t_end`` one output interval before t1 and ``run.keep_checkpoints``
+    on. A group whose t1 is within an output interval of the start shares nothing."""
+    from sph.study.calibration import damage_time
+
+    groups: dict[tuple, list[str]] = {}
+    for cid, over in ship.items():
+        key = tuple(sorted((k, repr(v)) for k, v in over.items()
+                           if not k.startswith(DAMAGE_PREFIX) or k == DAMAGE_TIME_KEY))
+        groups.setdefault(key, []).append(cid)
+    out: dict[str, dict] = {}
+    for cases in groups.values():
+        if len(cases) < 2:
+            continue
+        over = {k: v for k, v in ship[cases[0]].items()
+                if not k.startswith(DAMAGE_PREFIX) or k == DAMAGE_TIME_KEY}
+        over["geometry.damage.opening"] = 0.0
+        cfg = check_case_document(case_document("damaged_ship", over),
+                                  f"the run to t1 of cases {', '.join(cases)}")
+        t_end = damage_time(cfg) - cfg.run.output_interval
+        if t_end <= 0.0:
+            continue
+        over["run.t_end"] = round(t_end, 9)
+        over["run.keep_checkpoints"] = True
+        run = f"predamage_{cases[0]}"
+        cfg = check_case_document(case_document("damaged_ship", over), f"run {run}")
+        out[run] = {"cases": cases, "overrides": over, "digest": configuration_digest(cfg)}
+    return out
+
+
 def validation_runs(sweep: Mapping, data_dir: str | Path) -> dict[str, dict[str, tuple]]:
     """Runs of the validation targets of the sweep's preset: ``target -> run id ->
     (engine case, overrides)``, from each target's record in

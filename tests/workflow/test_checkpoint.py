@@ -39,6 +39,7 @@ from sph.io.checkpoint import (
     load_checkpoint,
     restore,
     resume_or_start,
+    start_from,
     write_checkpoint,
 )
 from sph.io.output import OutputWriteError, read_dataset
@@ -150,6 +151,57 @@ def test_damaged_ship_resumes_before_and_after_the_opening(tmp_path):
         assert resumed.setup.opening.is_open and resumed.setup.opening.params[0] == 1.0
         assert np.array_equal(resumed.parts.f, ref.parts.f)
         assert_same_series(resumed.dataset(), ref.dataset())
+
+
+def _seed(tmp_path, name, steps, extra=()):
+    """The checkpoint directory of the tiny ship with case-file values ``extra`` stopped
+    after ``steps`` steps."""
+    ckpt = tmp_path / f"{name}.nc.ckpt"
+    Simulation(_cfg("damaged_ship", [*extra, f"run.max_steps={steps}"])).run(
+        tmp_path / f"{name}.nc", checkpoint_dir=ckpt)
+    return ckpt
+
+
+def test_a_case_starts_from_the_state_of_another_opening_before_t1(tmp_path):
+    """Before t1 the opening does nothing: the damaged ship started from the checkpoint of
+    the intact ship, or of the other side's opening, at step 100 (the opening appears at
+    step 141) runs to the same numbers, bit for bit, as from t = 0, and its output holds
+    the seed's samples before the checkpoint."""
+    ref = _reference("damaged_ship")
+    for seed in (["geometry.damage.opening=0"], ["geometry.damage.side=head"]):
+        ckpt = _seed(tmp_path, seed[0][16:20], 100, seed)
+        sim = Simulation(_cfg("damaged_ship"))
+        path = start_from(sim, ckpt)
+        assert path == ckpt / "step-0000000100.npz" and sim.step == 100
+        assert not sim.setup.opening.is_open
+        sim.run(tmp_path / "out.nc")
+        assert sim.setup.opening.is_open and sim.step == ref.step
+        assert np.array_equal(sim.parts.f, ref.parts.f)
+        assert np.array_equal(sim.parts.i, ref.parts.i)
+        assert_same_series(read_dataset(tmp_path / "out.nc"), ref.dataset())
+    # and the intact ship from the damaged one's state
+    intact = Simulation(_cfg("damaged_ship", ["geometry.damage.opening=0"])).run()
+    sim = Simulation(_cfg("damaged_ship", ["geometry.damage.opening=0"]))
+    start_from(sim, _seed(tmp_path, "damaged", 100))
+    sim.run()
+    assert np.array_equal(sim.parts.f, intact.parts.f)
+    assert not np.array_equal(intact.parts.f, ref.parts.f)  # the opening matters after t1
+
+
+def test_a_start_from_another_case_past_t1_or_of_other_values_is_refused(tmp_path):
+    sim = Simulation(_cfg("damaged_ship"))
+    late = _seed(tmp_path, "late", 150, ["geometry.damage.opening=0"])  # past step 141
+    with pytest.raises(CheckpointError, match="appears at t1 = 0.157"):
+        start_from(sim, late)
+    opened = _seed(tmp_path, "opened", 150)
+    with pytest.raises(CheckpointError, match="DamageOpening had already acted"):
+        start_from(Simulation(_cfg("damaged_ship", ["geometry.damage.opening=0"])), opened)
+    other = _seed(tmp_path, "other", 20, ["numerics.alpha=0.05"])
+    with pytest.raises(CheckpointMismatch, match="differ in geometry.damage.* alone") as info:
+        start_from(Simulation(_cfg("damaged_ship")), other)
+    assert info.value.keys == ["numerics.alpha"]
+    with pytest.raises(NoCheckpoint, match="no checkpoint to start from"):
+        start_from(sim, tmp_path / "missing")
 
 
 def test_checkpoint_round_trip_restores_every_state(tmp_path):
@@ -443,6 +495,34 @@ def test_cli_restart_flags(tmp_path, case_file, caplog, capsys):
     err = capsys.readouterr().err
     assert err.startswith("error: numerics.cfl:") and len(err.strip().splitlines()) == 1
     assert main(base + ["--no-restart"] + sets) == 0  # resumes
+
+
+def test_cli_start_from_another_run(tmp_path, case_file, caplog, capsys):
+    path = case_file("damaged_ship")
+    sets = set_options(_SHIP)
+    seed = tmp_path / "seed.nc"
+    assert main(["run", str(path), "-o", str(seed), "--no-progress", *sets, "--set",
+                 "geometry.damage.opening=0", "--set", "run.max_steps=100"]) == 0
+    base = ["run", str(path), "-o", str(tmp_path / "out.nc"), "--no-progress", *sets]
+    with caplog.at_level(logging.INFO, logger="sph"):
+        assert main(base + ["--start-from", str(checkpoint_dir(seed)), "--set",
+                            "run.max_steps=120"]) == 0
+    assert any("starting from checkpoint" in r.getMessage() and "step 100" in r.getMessage()
+               for r in caplog.records)
+    # with checkpoints of its own the run resumes from them
+    caplog.clear()
+    with caplog.at_level(logging.INFO, logger="sph"):
+        assert main(base + ["--start-from", str(checkpoint_dir(seed))]) == 0
+    assert any("resuming" in r.getMessage() and "step 120" in r.getMessage()
+               for r in caplog.records)
+    assert_same_series(read_dataset(tmp_path / "out.nc"), _reference("damaged_ship").dataset())
+    # another case's values: exit 2, one line naming the key
+    capsys.readouterr()
+    assert main(base + ["--restart", "--start-from", str(checkpoint_dir(seed)), "--set",
+                        "numerics.cfl=0.1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: cannot start from") and "numerics.cfl" in err
+    assert len(err.strip().splitlines()) == 1
 
 
 def test_cli_unwritable_output_directory(tmp_path, case_file, capsys, monkeypatch):

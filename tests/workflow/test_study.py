@@ -572,3 +572,35 @@ def test_configuration_digest_follows_the_whole_configuration():
     assert digest({}) != digest({"geometry.wavemaker.ramp_time": 0.0})
     digests = study.check_documents({"case3": over}, {})
     assert digests == {"ship": {"case3": digest({})}, "validation": {}}
+
+
+def test_the_cases_that_differ_in_the_opening_alone_share_their_run_to_t1():
+    """Table I: cases 1-5 (intact, three openings, two sides; the same fill and wave) share
+    one run of the intact ship to one output interval before t1 = 3.18 T, keeping its
+    checkpoints; each cargo case differs in its fill and shares nothing. In the rao sweep
+    each wave's intact and damaged runs share one."""
+    s = _load()
+    over = {c["case"]: study.ship_overrides(c, s) for c in s["cases"]}
+    runs = study.predamage_runs(over)
+    assert list(runs) == ["predamage_case1"]
+    run = runs["predamage_case1"]
+    assert run["cases"] == ["case1", "case2", "case3", "case4", "case5"]
+    seed = run["overrides"]
+    period = 2.0 * math.pi / study.DEFAULT_OMEGA
+    t1 = 3.18 * period
+    assert seed["run.t_end"] == pytest.approx(t1 - seed["run.output_interval"], abs=1e-8)
+    assert seed["geometry.damage.opening"] == 0.0 and seed["run.keep_checkpoints"] is True
+    assert {k: v for k, v in seed.items() if not k.startswith(("geometry.damage.", "run."))} \
+        == {k: v for k, v in over["case4"].items()
+            if not k.startswith(("geometry.damage.", "run."))}
+    built = study.check_case_document(study.case_document("damaged_ship", seed), "seed")
+    assert run["digest"] == study.configuration_digest(built)
+    assert built.run.t_end == seed["run.t_end"] and built.run.keep_checkpoints
+    rao = _rao_sweep()
+    rao_runs = study.predamage_runs({c["case"]: study.ship_overrides(c, rao)
+                                     for c in rao["cases"]})
+    assert len(rao_runs) == 11
+    assert all(len(r["cases"]) == 2 for r in rao_runs.values())
+    # a damage time within an output interval of the start: nothing to share
+    early = {k: dict(v, **{"geometry.damage.time_periods": 0.001}) for k, v in over.items()}
+    assert study.predamage_runs(early) == {}

@@ -19,6 +19,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 import yaml
@@ -85,9 +86,14 @@ def test_dry_run_lists_the_table_one_simulations(work):
     counts = _job_counts(res.stdout)
     assert counts["simulate_case"] == N_TABLE_ONE
     assert counts["case_file"] == N_TABLE_ONE
-    # one wave in Table I: one wavemaker calibration, which every case file waits for
+    # one wave in Table I: one wavemaker calibration, which every case file waits for, and
+    # the case file of the run to t1 that cases 1-5 share (they differ in the opening alone)
     assert counts["calibrate_wavemaker"] == 1
-    assert res.stdout.count("input: results/table1/calibration/A2_w1.json") == N_TABLE_ONE
+    assert res.stdout.count("input: results/table1/calibration/A2_w1.json") == N_TABLE_ONE + 1
+    assert counts["simulate_predamage"] == counts["predamage_case_file"] == 1
+    shared = re.findall(r"input: results/table1/cases/(case\d)\.yaml, "
+                        r"results/table1/predamage/predamage_case1\.nc\n", res.stdout)
+    assert sorted(shared) == [f"case{k}" for k in range(1, 6)]
     # validation: wave tank at 3 dx, sloshing at 3 fills, roll and heave decay, box, dam break
     assert counts["simulate_validation"] == 10
     for rule in ("gather", "findings", "validation_summary", "overview_figure", "all"):
@@ -132,6 +138,7 @@ def test_dry_run_of_the_roll_rao_sweep(work):
     counts = _job_counts(res.stdout)
     assert counts["simulate_case"] == counts["case_file"] == 22
     assert counts["calibrate_wavemaker"] == 11
+    assert counts["simulate_predamage"] == 11  # each wave's intact and damaged ship share
     assert counts["rao_figure"] == 1 and counts["ship_figure"] == 4  # Figs. 12-15
     assert "simulate_validation" not in counts
     for out in ("results/roll_rao/figures/rao.png", "results/roll_rao/rao.csv",
@@ -248,6 +255,21 @@ def test_toy_workflow_writes_the_sweep_dataset(toy):
         assert (toy / "results" / "test" / "benchmarks" / "simulate" / f"{case}.tsv").is_file()
         assert "done:" in (toy / "results" / "test" / "logs" / "simulate" /
                            f"{case}.log").read_text()
+    # cases 1-5 differ in the opening alone: they start from the shared run to t1, whose
+    # samples they hold (sph.study.sweeps.predamage_runs)
+    shared = toy / "results" / "test" / "predamage" / "predamage_case1.nc"
+    seed = read_dataset(shared)
+    assert seed.attrs["opening"] == 0.0 and seed["time"].values[-1] < seed.attrs["damage_time"]
+    for case in ("case1", "case2", "case3", "case5"):
+        log = (toy / "results" / "test" / "logs" / "simulate" / f"{case}.log").read_text()
+        assert f"starting from checkpoint {shared.relative_to(toy)}.ckpt/step-" in log, log
+        run = read_dataset(toy / "results" / "test" / "cases" / f"{case}.nc")
+        for name in ("roll", "heave", "sway", "flood_ratio"):
+            np.testing.assert_array_equal(run[name].values[:seed.sizes["time"]],
+                                          seed[name].values)
+    for case in ("case6", "case7"):
+        assert "starting from" not in (toy / "results" / "test" / "logs" / "simulate" /
+                                       f"{case}.log").read_text()
     findings = (toy / "results" / "test" / "findings.csv").read_text().splitlines()
     assert findings[0].startswith("id,statement")
     ids = [ln.split(",")[0] for ln in findings[1:]]

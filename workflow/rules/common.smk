@@ -38,6 +38,12 @@ DATA_DIR = (
     else validation_data_dir()
 )
 SHIP_OVERRIDES = {cid: study.ship_overrides(c, SWEEP_CFG) for cid, c in CASES.items()}
+# the runs to t1 that the cases differing in the opening alone share (sph.study.sweeps)
+try:
+    PREDAMAGE = study.predamage_runs(SHIP_OVERRIDES)
+except ConfigError as exc:
+    raise WorkflowError(f"invalid sweep configuration: {exc}") from None
+PREDAMAGE_OF = {cid: run for run, group in PREDAMAGE.items() for cid in group["cases"]}
 VALIDATION = study.validation_runs(SWEEP_CFG, DATA_DIR)
 
 
@@ -63,6 +69,7 @@ wildcard_constraints:
     target="|".join(re.escape(t) for t in TARGETS),
     run="[A-Za-z0-9][A-Za-z0-9_-]*",
     figure="fig[0-9a-z_]+",
+    predamage="|".join(re.escape(r) for r in PREDAMAGE) or "(?!x)x",
 
 
 # The paper's figures drawn from a sweep dataset: name -> (group of cases, series).
@@ -152,12 +159,49 @@ def calibration_digest(wildcards):
     return DIGESTS["ship"][CALIBRATED_WAVES[wildcards.wave]]
 
 
-def calibration_of(wildcards):
-    """The calibration a ship case file takes its flap angle from ([] if none)."""
-    key = study.wave_key(SHIP_OVERRIDES[wildcards.case])
+def _calibration(sweep, overrides):
+    key = study.wave_key(overrides)
     if key is None or key not in CALIBRATED_WAVES:
         return []
-    return [f"results/{wildcards.sweep}/calibration/{key}.json"]
+    return [f"results/{sweep}/calibration/{key}.json"]
+
+
+def calibration_of(wildcards):
+    """The calibration a ship case file takes its flap angle from ([] if none)."""
+    return _calibration(wildcards.sweep, SHIP_OVERRIDES[wildcards.case])
+
+
+def predamage_path(run, ext):
+    return f"results/{SWEEP}/predamage/{run}.{ext}"
+
+
+def predamage_document(wildcards):
+    return study.case_document("damaged_ship", PREDAMAGE[wildcards.predamage]["overrides"])
+
+
+def predamage_digest(wildcards):
+    return PREDAMAGE[wildcards.predamage]["digest"]
+
+
+def predamage_calibration(wildcards):
+    return _calibration(wildcards.sweep, PREDAMAGE[wildcards.predamage]["overrides"])
+
+
+def predamage_of(wildcards):
+    """The shared run to t1 a ship case starts from ([] if none)."""
+    run = PREDAMAGE_OF.get(wildcards.case)
+    return [] if run is None else [predamage_path(run, "nc")]
+
+
+def start_option(wildcards):
+    """``sph run``'s option to start from the checkpoint of the shared run to t1 (none
+    without one; the run then starts from t = 0, as it also does when that checkpoint has
+    been deleted)."""
+    run = PREDAMAGE_OF.get(wildcards.case)
+    if run is None:
+        return ""
+    ckpt = predamage_path(run, "nc.ckpt")
+    return f"$( [ -d '{ckpt}' ] && echo --start-from '{ckpt}' )"
 
 
 def validation_document(wildcards):

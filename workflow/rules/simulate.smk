@@ -10,11 +10,18 @@
 # case NaN after its end, and the findings that need it later are not determinable
 # (sph.study.sweeps.gather, sph.study.findings). Running it again would blow up again.
 
+#
+# The ship cases that differ in the opening alone (Table I cases 1-5) are the same run until
+# the opening appears at t1: one run of the intact ship to just before t1 (`predamage_*`,
+# keeping its checkpoints) is shared, and each of these cases starts from its last
+# checkpoint (`sph run --start-from`), to the same numbers as from t = 0
+# (sph.study.sweeps.predamage_runs).
+
 SPH_RUN = (
     "( s=0; sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
-    " || s=$?; if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
+    " {params.start} || s=$?; if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
     " echo 'checkpoint of other parameters: starting over'; s=0; sph run {input.case:q}"
-    " -o {output.nc:q} --threads {threads} --no-progress --restart || s=$?; fi;"
+    " -o {output.nc:q} --threads {threads} --no-progress --restart {params.start} || s=$?; fi;"
     " if [ $s -eq 3 ]; then echo 'warning: the run blew up (above); its output up to then"
     " is the result of this case, marked with its status; the findings that need it"
     " later are not determinable'; s=0; fi; exit $s ) > {log:q} 2>&1"
@@ -59,11 +66,53 @@ rule case_file:
         "../scripts/case_file.py"
 
 
+rule predamage_case_file:
+    input:
+        calibration=predamage_calibration,
+    output:
+        "results/{sweep}/predamage/{predamage}.yaml",
+    params:
+        document=predamage_document,
+        configuration=predamage_digest,
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/case_file/{predamage}.log",
+    localrule: True
+    priority: SHIP_PRIORITY + 1
+    script:
+        "../scripts/case_file.py"
+
+
+rule simulate_predamage:
+    # the run to t1 that the cases differing in the opening alone share; its checkpoints
+    # (OUTPUT.ckpt/, run.keep_checkpoints) are what they start from
+    input:
+        case="results/{sweep}/predamage/{predamage}.yaml",
+    output:
+        nc="results/{sweep}/predamage/{predamage}.nc",
+    params:
+        start="",
+    conda:
+        "../envs/sph.yaml"
+    log:
+        "results/{sweep}/logs/simulate/{predamage}.log",
+    benchmark:
+        "results/{sweep}/benchmarks/simulate/{predamage}.tsv"
+    threads: 1
+    priority: SHIP_PRIORITY + 1
+    shell:
+        SPH_RUN
+
+
 rule simulate_case:
     input:
         case="results/{sweep}/cases/{case}.yaml",
+        predamage=predamage_of,
     output:
         nc="results/{sweep}/cases/{case}.nc",
+    params:
+        start=start_option,
     conda:
         "../envs/sph.yaml"
     log:
@@ -101,6 +150,8 @@ rule simulate_validation:
         "../envs/sph.yaml"
     log:
         "results/validation/{preset}/logs/simulate/{target}/{run}.log",
+    params:
+        start="",
     benchmark:
         "results/validation/{preset}/benchmarks/simulate/{target}/{run}.tsv"
     threads: 1
