@@ -689,8 +689,6 @@ def predamage_runs(ship: Mapping[str, Mapping]) -> dict[str, dict]:
     group's first case id. Its values are the group's with
     the opening 0, ``run.t_end`` one output interval before t1 and ``run.keep_checkpoints``
     on. A group whose t1 is within an output interval of the start shares nothing."""
-    from sph.study.calibration import damage_time
-
     groups: dict[tuple, list[str]] = {}
     for cid, over in ship.items():
         key = tuple(sorted((k, repr(v)) for k, v in over.items()
@@ -705,7 +703,8 @@ def predamage_runs(ship: Mapping[str, Mapping]) -> dict[str, dict]:
         over["geometry.damage.opening"] = 0.0
         cfg = check_case_document(case_document("damaged_ship", over),
                                   f"the run to t1 of cases {', '.join(cases)}")
-        t_end = damage_time(cfg) - cfg.run.output_interval
+        t1 = cfg.geometry.damage.time_periods * 2.0 * math.pi / cfg.geometry.wavemaker.omega
+        t_end = t1 - cfg.run.output_interval
         if t_end <= 0.0:
             continue
         over["run.t_end"] = round(t_end, 9)
