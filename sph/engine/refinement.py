@@ -370,10 +370,15 @@ def _cell_span(x, z, x0, z0, inv_cell, ncx, ncz):
     :class:`~sph.engine.neighbours.CellGrid` whose domain starts at ``(x0, z0)``: ``(first
     column, last column, first row, last row)``, clipped to the interior (a point outside
     it sees the cells at its edge). The cell of a point inside is the grid's own (the same
-    rounding as its sort)."""
+    rounding as its sort). A point more than a cell beyond the interior gets an empty span
+    (no rows): its first column would lie beyond the row's cells."""
     ix = int(np.floor((x - x0) * inv_cell + 1.0))
     iz = int(np.floor((z - z0) * inv_cell + 1.0))
-    return max(ix - 1, 1), min(ix + 1, ncx - 2), max(iz - 1, 1), min(iz + 1, ncz - 2)
+    c0, c1 = max(ix - 1, 1), min(ix + 1, ncx - 2)
+    r0, r1 = max(iz - 1, 1), min(iz + 1, ncz - 2)
+    if c0 > c1 or r0 > r1:
+        return 1, 0, 1, 0
+    return c0, c1, r0, r1
 
 
 @njit(**JIT_PARALLEL)

@@ -21,6 +21,7 @@ from sph.engine.particles import FLUID, GHOST, Particles
 from sph.engine.refinement import (
     BUFFER,
     STRAY,
+    _cell_span,
     _index_of,
     active_fluid,
     assign,
@@ -351,6 +352,21 @@ def test_ghost_sources_are_every_active_particle_in_its_own_reach_in_index_order
         found += len(want)
     assert found > 5 * len(ghosts)  # not an empty comparison
     assert len(set(levels(hs[index]))) == 3
+
+
+def test_a_point_beyond_a_level_s_cells_searches_none_of_them():
+    """The cells about a point (:func:`_cell_span`): the 3 x 3 about one inside, clipped at
+    an edge, and none for a point more than a cell beyond the interior on any side (a
+    ghost far from a level's particles: its columns would have run past the last row's
+    cells, reading outside the cell table)."""
+    grid = CellGrid(0.0, 2.0, 0.0, 1.0, 0.5)  # interior columns 1-5, rows 1-3
+    span = (grid.x0 + grid.cell, grid.z0 + grid.cell, 1.0 / grid.cell, grid.ncx, grid.ncz)
+    assert _cell_span(0.7, 0.2, *span) == (1, 3, 1, 2)
+    assert _cell_span(1.99, 0.99, *span) == (3, 5, 1, 3)
+    assert _cell_span(2.6, 0.5, *span) == (5, 5, 1, 3)  # within a cell of the edge
+    for x, z in ((3.1, 0.5), (-1.1, 0.5), (1.0, 2.1), (1.0, -0.6), (50.0, 50.0)):
+        c0, c1, r0, r1 = _cell_span(x, z, *span)
+        assert c0 > c1 and r0 > r1, (x, z)
 
 
 def test_levels_do_not_interact():
