@@ -433,7 +433,7 @@ def ghost_sources(x, z, kind, body, hs, grid, radius) -> tuple[np.ndarray, np.nd
     The active particles of each level are binned in cells of their own list radius, as
     the lists are (:func:`sph.engine.neighbours.NeighbourList.build`): in the cells of
     ``grid`` (the coarsest level's) a ghost of a box's finest level tested 16 times the
-    candidates it needs, and in the refined Table I case 4 at 33 s this search took 145 ms
+    candidates it needs, and in the refined Table I case 4 at 33 s this search took 138 ms
     at each rebuild of the lists, 10 % of the run. A particle outside ``grid``'s domain is
     no source."""
     n = x.shape[0]

@@ -444,10 +444,10 @@ class Stepper:
         self._mark_ghosts()
         self._rebuilt = True
 
-    def _seed_pairs(self, state: dict[str, np.ndarray]) -> list[tuple[int, int, object]]:
-        """``(index in the seed state, own index, object)`` of the stateful objects that
-        take a seed state's (:meth:`set_state` with ``seed``): those that are not
-        ``SEEDLESS``, matched in order by type."""
+    def _seed_pairs(self, state: dict[str, np.ndarray]) -> list[tuple[int, object]]:
+        """``(index in the seed state, object)`` of the stateful objects that take a seed
+        state's (:meth:`set_state` with ``seed``): those that are not ``SEEDLESS``, matched
+        in order by type."""
         if "stateful.types" not in state:
             raise StateMismatch("the state names no object types (written by an earlier "
                                 "version): it can only resume its own run")
@@ -457,19 +457,18 @@ class Stepper:
         if np.any(started):
             k = int(np.argmax(started))
             raise StateMismatch(f"its {types[k]} had already acted at t = {t:.6g} s")
-        own = [(k, obj) for k, obj in enumerate(self.stateful)
-               if not getattr(obj, "SEEDLESS", False)]
+        own = [obj for obj in self.stateful if not getattr(obj, "SEEDLESS", False)]
         for obj in self.stateful:
             if getattr(obj, "SEEDLESS", False) and obj.started_by(t):
                 raise StateMismatch(f"it is at t = {t:.6g} s, not before this case's "
                                     f"{type(obj).__name__} acts ({obj.describe()})")
         theirs = [k for k, free in enumerate(state["stateful.seedless"]) if not free]
-        if [types[k] for k in theirs] != [type(obj).__name__ for _, obj in own]:
+        if [types[k] for k in theirs] != [type(obj).__name__ for obj in own]:
             mine = " ".join(type(o).__name__ for o in self.stateful)
             raise StateMismatch(f"its objects ({' '.join(types) or 'none'}) are not this "
                                 f"case's ({mine or 'none'}) apart from events that have not "
                                 "acted")
-        return [(k, j, obj) for k, (j, obj) in zip(theirs, own, strict=True)]
+        return list(zip(theirs, own, strict=True))
 
     def _mark_ghosts(self) -> None:
         """The ghosts and walls within reach of active particles (:func:`in_reach`), the
@@ -689,8 +688,7 @@ class Stepper:
         if state["kin"].shape != self.kin.shape:
             raise StateMismatch(f"{state['kin'].shape[0]} wall groups, this case has "
                                 f"{self.kin.shape[0]}")
-        pairs = (self._seed_pairs(state) if seed else
-                 [(k, k, obj) for k, obj in enumerate(self.stateful)])
+        pairs = self._seed_pairs(state) if seed else list(enumerate(self.stateful))
         if not seed and int(state["stateful.count"]) != len(self.stateful):
             raise StateMismatch(f"{int(state['stateful.count'])} stateful objects, this case "
                                 f"has {len(self.stateful)}")
@@ -707,7 +705,7 @@ class Stepper:
             self.boxes[:] = state["boxes"]
         for name, tp in STATE_SCALARS.items():
             setattr(self, name, tp(state[name][()]))
-        for k, _, obj in pairs:
+        for k, obj in pairs:
             prefix = f"stateful.{k}."
             try:
                 obj.set_state({key[len(prefix):]: value for key, value in state.items()
