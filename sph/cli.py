@@ -19,8 +19,9 @@ Exit status:
 
 == ==================================================================================
 0  done (or stopped at ``run.max_steps``; running again with a larger limit resumes)
-2  invalid case file or command line, a checkpoint of another configuration, or
-   ``--no-restart`` with nothing to resume; one line names the key and the allowed range
+2  invalid case file or command line, a checkpoint of another configuration,
+   ``--no-restart`` with nothing to resume, or a ``--start-from`` checkpoint that does not
+   fit (another case, or past the opening); one line names the key and the allowed range
 3  the simulation blew up; the message names step, time and cause, and the output up
    to that moment is written
 4  interrupted by SIGINT or SIGTERM; a checkpoint and the output so far are written,
