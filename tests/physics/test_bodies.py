@@ -136,10 +136,11 @@ def test_roll_sign_is_positive_towards_plus_x():
     assert body.v[2] == pytest.approx(dt * moment / inertia, rel=1e-12)
 
 
-def _resting_box(tank_length: float):
-    """The box below released at rest in the middle of a tank ``tank_length`` long."""
+def _resting_box(tank_length: float, t_end: float = 3.0):
+    """The box below released at rest in the middle of a tank ``tank_length`` long, for
+    ``t_end`` seconds."""
     return run_builtin("floating_box", [
-        "numerics.dx=0.02", "run.t_end=3.0", "run.output_interval=0.02",
+        "numerics.dx=0.02", f"run.t_end={t_end}", "run.output_interval=0.02",
         "geometry.depth=0.5", f"geometry.tank_length={tank_length}",
         "geometry.tank_height=0.8", "geometry.box_width=0.4", "geometry.box_height=0.2",
         f"geometry.box_x={tank_length / 2}", "geometry.box_density=500",
@@ -162,11 +163,13 @@ def _assert_at_rest_on_its_draught(sim):
 
 
 def test_floating_box_stays_at_its_hydrostatic_draught_short_tank():
-    """The hydrostatic test below in a 1.6 m tank (half the particles): equilibrium does not
-    depend on the tank's length, and the walls stay 0.6 m (six draughts) from the box's sides.
-    Same tolerances (measured: mean heave +0.5 % and largest 0.9 % of the draught, force
-    +0.25 % at t = 0 and -0.005 % on average)."""
-    _assert_at_rest_on_its_draught(_resting_box(1.6))
+    """The hydrostatic test below in a 1.6 m tank (half the particles) over 2 s, two heave
+    periods of the box (about 1 s: its mass and 2D added mass against the waterplane's
+    stiffness): equilibrium does not depend on the tank's length, and the walls stay 0.6 m
+    (six draughts) from the box's sides. Same tolerances (measured: mean heave +0.50 % and
+    largest 0.87 % of the draught, force +0.25 % at t = 0 and -0.002 % on average; over 3 s
+    +0.48 %, 0.87 %, +0.25 % and -0.004 %)."""
+    _assert_at_rest_on_its_draught(_resting_box(1.6, t_end=2.0))
 
 
 @pytest.mark.slow
