@@ -33,6 +33,14 @@ equilibrium, ``t2_periods * T``):
   2π over it;
 - *initial inflow rate*: the mean of dQ/dt over ``[t1, t1 + T/2]``;
 - *fluctuation* of Q: ``(max - min) / max`` over ``[t2, t_end]``.
+
+Every window after t2 ends where the runs end, or sooner where the ship drifts: free in
+sway, it drifts with the waves, and once a side of its hull (upright, at the waterline)
+reaches the absorbing zone, the zone damps the flow about it and at its opening. A finding
+reads its cases up to the first moment one of their hulls reaches the zone
+(:func:`zone_entry`; the clearances are :func:`sph.study.sweeps.zone_clearance`), and is
+not determinable where that comes before the end of its window (t2 + T for a finding
+after t2, t2 for one between t1 and t2).
 """
 
 from __future__ import annotations
@@ -175,6 +183,28 @@ def window(t, y, start: float, end: float | None = None) -> np.ndarray:
     return np.asarray(y, dtype=float)[sel]
 
 
+def zone_entry(t, sway, back: float, head: float = math.inf) -> tuple[float, float]:
+    """Time and sway of the first sample at which the ship has swayed ``back`` towards +x
+    or ``head`` towards -x: a side of its hull then reaches an absorbing zone (``inf``,
+    NaN where it never does)."""
+    sway = np.asarray(sway, dtype=float)
+    with np.errstate(invalid="ignore"):
+        hit = np.nonzero((sway >= back) | (-sway >= head))[0]
+    if not len(hit):
+        return math.inf, math.nan
+    return float(np.asarray(t, dtype=float)[hit[0]]), float(sway[hit[0]])
+
+
+def case_zone_entry(ds, case: str) -> tuple[float, float]:
+    """:func:`zone_entry` of ``case`` in a sweep dataset (its ``sway`` against its
+    ``zone_clearance_back`` and ``zone_clearance_head``; none where they are missing)."""
+    if "sway" not in ds.data_vars:
+        return math.inf, math.nan
+    clear = [float(ds[n].sel(case=case).values) if n in ds else math.inf
+             for n in ("zone_clearance_back", "zone_clearance_head")]
+    return zone_entry(ds["time"].values, ds["sway"].sel(case=case).values, *clear)
+
+
 def first_peak(t, q, t1: float, period: float) -> tuple[float, float]:
     """Time and value of the first peak of the running mean of ``q`` after ``t1`` (see
     the module docstring)."""
@@ -269,6 +299,8 @@ class _Sweep:
         self.t1 = float(ds.attrs["damage_time"])
         self.t2 = t2_periods * self.period
         self.t_end = float(self.t[-1])
+        #: end of the windows after t2 (:func:`compute_findings` sets it per finding)
+        self.stop = self.t_end
         self.cases = {str(c): dict(case=str(c), opening=float(o), side=str(s), fill=float(f),
                                    amplitude=float(a))
                       for c, o, s, f, a in zip(ds["case"].values, ds["opening"].values,
@@ -289,14 +321,19 @@ class _Sweep:
         return 2.0 * math.pi / self.period
 
     def steady(self, case: str, name: str, probe: str | None = None) -> np.ndarray:
-        return window(self.t, self.series(case, name, probe), self.t2)
+        """The samples over ``[t2, stop]``."""
+        return window(self.t, self.series(case, name, probe), self.t2, self.stop)
+
+    def steady_times(self) -> np.ndarray:
+        return window(self.t, self.t, self.t2, self.stop)
 
     def oscillation(self, case: str, name: str, probe: str | None = None,
                     start: float | None = None, end: float | None = None):
         """Times and the oscillation about the running mean over ``[start, end]``
-        (default: after t2)."""
+        (default: ``[t2, stop]``)."""
         y = oscillation(self.t, self.series(case, name, probe), self.period)
-        start = self.t2 if start is None else start
+        if start is None:
+            start, end = self.t2, self.stop
         return window(self.t, self.t, start, end), window(self.t, y, start, end)
 
     def label(self, case: str) -> str:
@@ -311,6 +348,11 @@ class _Sweep:
     def end(self, case: str) -> float:
         """The time of the last sample of ``case``'s run."""
         return last_sample(self.t, self.series(case, "roll"))
+
+    def zone_entry(self, case: str) -> tuple[float, float]:
+        """Time and sway of ``case``'s first sample with a side of its hull in an absorbing
+        zone (:func:`zone_entry`)."""
+        return case_zone_entry(self.ds, case)
 
     @property
     def steady_covered(self) -> bool:
@@ -452,7 +494,7 @@ def _mean_heel(s: _Sweep, c: str) -> float:
 
 def _sloshing_phase(s: _Sweep, c: str) -> float:
     """Phase difference (0 to pi) at the wave frequency between W2 and W1 after t2."""
-    t = window(s.t, s.t, s.t2)
+    t = s.steady_times()
     a1 = harmonics(t, s.steady(c, "probe_elevation", "W1"), [s.omega])[0]
     a2 = harmonics(t, s.steady(c, "probe_elevation", "W2"), [s.omega])[0]
     if not (np.isfinite(a1) and np.isfinite(a2)) or a1 == 0 or a2 == 0:
@@ -462,7 +504,7 @@ def _sloshing_phase(s: _Sweep, c: str) -> float:
 
 def _second_harmonic(s: _Sweep, c: str) -> float:
     """W2's amplitude at 2ω over its amplitude at ω, after t2."""
-    a = np.abs(harmonics(window(s.t, s.t, s.t2), s.steady(c, "probe_elevation", "W2"),
+    a = np.abs(harmonics(s.steady_times(), s.steady(c, "probe_elevation", "W2"),
                          [s.omega, 2.0 * s.omega]))
     return float(a[1] / a[0]) if a[0] > 0 else float("nan")
 
@@ -473,7 +515,7 @@ def _beat(s: _Sweep, c: str) -> float:
     from sph.study.validation import TABLE_II_SLOSHING
 
     fill = min(TABLE_II_SLOSHING, key=lambda f: abs(f - s.cases[c]["fill"]))
-    a = np.abs(harmonics(window(s.t, s.t, s.t2), s.steady(c, "probe_elevation", "W1"),
+    a = np.abs(harmonics(s.steady_times(), s.steady(c, "probe_elevation", "W1"),
                          [s.omega, TABLE_II_SLOSHING[fill] * s.omega]))
     return float(a[1] / a[0]) if a[0] > 0 else float("nan")
 
@@ -795,13 +837,20 @@ def stop_note(s: _Sweep, case: str) -> str:
 
 
 def _stopped_too_soon(s: _Sweep, case: str, spec: FindingSpec) -> bool:
-    """Whether ``case`` stopped before the end of the window that ``spec`` measures: the
-    end of the runs for a finding after t2, t2 for one between t1 and t2 (the first peak,
-    the inflow rate, the mean heel, the heave period)."""
+    """Whether ``case`` stopped before the end of the window that ``spec`` measures:
+    ``s.stop`` for a finding after t2, t2 for one between t1 and t2 (the first peak, the
+    inflow rate, the mean heel, the heave period)."""
     if s.status(case) == "completed":
         return False
-    need = s.t_end if spec.steady else s.t2
+    need = s.stop if spec.steady else s.t2
     return not s.end(case) >= need - 1e-9 * max(1.0, need)
+
+
+def zone_note(s: _Sweep, case: str) -> str:
+    """Where ``case``'s hull reached an absorbing zone, in wave periods and metres."""
+    t, sway = s.zone_entry(case)
+    return (f"{case} ({case_label(s.cases[case])}): its hull reached the absorbing zone at "
+            f"t/T = {t / s.period:.3g} (sway {sway:+.3g} m)")
 
 
 def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
@@ -821,7 +870,9 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     The groups' cases are at one wave frequency (:func:`sph.study.sweeps.groups`); in a
     sweep over wave frequency the findings are measured on them alone
     (:func:`sph.study.sweeps.one_wave`). A finding is not determinable, with the reason,
-    where it needs a window the runs do not cover, a case that capsized
+    where it needs a window the runs do not cover, a case whose hull reached an absorbing
+    zone before the window's end (:func:`zone_note`; the windows after t2 otherwise end
+    where the first of its cases' hulls reaches one), a case that capsized
     (:func:`capsize_note`) or a case whose run stopped before the end of the window
     (``case_status``, :func:`stop_note`: a run that blew up).
     """
@@ -830,9 +881,14 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")
     capsized = {c: note for c in s.cases if (note := capsize_note(s, c))}
+    entry = {c: s.zone_entry(c)[0] for c in s.cases}
     out = []
     for f in FINDINGS:
         cases = f.cases(sel)
+        # the windows after t2 end where the first of these hulls reaches a zone
+        first = min(cases, key=entry.get) if cases else None
+        s.stop = min(s.t_end, entry[first]) if cases else s.t_end
+        need = s.t2 + s.period if f.steady else s.t2
         if not cases:
             out.append(Finding(f.id, f.statement, f.paper, f"not in this sweep: {f.needs}",
                                None))
@@ -841,11 +897,18 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
         elif any(c in capsized for c in cases):
             out.append(Finding(f.id, f.statement, f.paper, "; ".join(
                 capsized[c] for c in cases if c in capsized), None))
+        elif late := [c for c in cases if entry[c] < need - 1e-9 * need]:
+            out.append(Finding(f.id, f.statement, f.paper, "; ".join(
+                zone_note(s, c) for c in late) + f", before t/T = {need / s.period:.3g}",
+                None))
         elif short := [c for c in cases if _stopped_too_soon(s, c, f)]:
             out.append(Finding(f.id, f.statement, f.paper, "; ".join(
                 stop_note(s, c) for c in short), None))
         else:
             values, measured = f.measure(s, cases)
+            if f.steady and s.stop < s.t_end:
+                measured += (f" (read to t/T = {s.stop / s.period:.3g}, where the hull of "
+                             f"{first} reached the absorbing zone)")
             out.append(_judged(f.id, f.statement, f.paper, measured, f.test(values, s),
                                values.values()))
     return out
@@ -880,6 +943,18 @@ def stopped_runs(ds, period: float) -> list[str]:
         if str(status) != "completed":
             end = last_sample(ds["time"].values, ds["roll"].sel(case=c).values)
             out.append(f"{c} at t/T = {end / period:.3g}: {status}")
+    return out
+
+
+def zone_entries(ds, period: float) -> list[str]:
+    """The runs of a sweep dataset whose hull reached an absorbing zone, one line per run:
+    when (in wave periods ``period``) and at which sway."""
+    s = _Sweep(ds, 0.0)
+    out = []
+    for c in s.cases:
+        t, sway = s.zone_entry(c)
+        if np.isfinite(t):
+            out.append(f"{c} at t/T = {t / period:.3g} (sway {sway:+.3g} m)")
     return out
 
 

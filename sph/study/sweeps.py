@@ -805,6 +805,23 @@ def _nominal_times(ds) -> np.ndarray:
     return np.arange(n + 1) * dt
 
 
+def zone_clearance(config: Mapping) -> tuple[float, float]:
+    """How far the ship of a resolved case configuration ``config`` may sway towards +x
+    and towards -x before a side of its hull (upright, at the waterline) reaches an
+    absorbing zone: the zone at the tank's end, and its mirror by the flap (``inf`` where
+    there is none, or no hull)."""
+    g = config.get("geometry", {})
+    zone = g.get("absorber") or {}
+    if "hull" not in g or not zone.get("enabled"):
+        return math.inf, math.inf
+    half = 0.5 * float(g["hull"]["breadth"])
+    start, x = float(zone["start"]), float(g["ship_x"])
+    back = start - (x + half)
+    head = (x - half) - (float(g["tank_length"]) - start) if zone.get("mirrored") \
+        else math.inf
+    return back, head
+
+
 def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping | None = None):
     """Concatenate the runs of a sweep into one dataset with a ``case`` dimension.
 
@@ -820,8 +837,9 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
     that says it completed but ends before its ``run.t_end`` is refused. The case parameters
     become coordinates along ``case`` (``opening``, ``side``, ``fill``, ``amplitude``,
     ``omega``), the per-run cost figures, wave period, damage time and resolved
-    configurations variables along it, and the attributes that the runs share global
-    attributes (:func:`one_wave` selects the cases of one wave).
+    configurations variables along it, as are the ship's clearances to the absorbing zones
+    (:func:`zone_clearance`), and the attributes that the runs share global attributes
+    (:func:`one_wave` selects the cases of one wave).
     """
     import xarray as xr
 
@@ -862,6 +880,11 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         out["case_config"].attrs = cf_attrs("case_config")
         out["case_status"] = status
         out["case_status"].attrs = cf_attrs("case_status")
+        clear = zone_clearance(yaml.safe_load(ds.attrs.get("config", "")) or {})
+        for name, value in zip(("zone_clearance_back", "zone_clearance_head"), clear,
+                               strict=True):
+            out[name] = value
+            out[name].attrs = cf_attrs(name)
         out.attrs = {}
         parts.append(out)
     ds = xr.concat(parts, dim="case", join="outer", coords="minimal", compat="override",

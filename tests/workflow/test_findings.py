@@ -228,6 +228,80 @@ def test_a_case_that_stopped_makes_only_its_later_findings_not_determinable():
     assert _verdicts(ds) == _verdicts(_sweep(_paper_like()))
 
 
+def _drifting(ds, case, t_zone, wild=3.0):
+    """``ds`` with every ship drifting at 0.1 m/s from t = 0 and clearances of 22 m to the
+    absorbing zone behind it, except ``case``, whose clearance it reaches at ``t_zone``
+    (the others never do); after that ``case``'s roll, heave and W1/W2 swing ``wild``
+    times as far (the zone's damping, made obvious)."""
+    t = ds["time"].values
+    n = ds.sizes["case"]
+    ds["sway"] = (("case", "time"), np.tile(0.1 * t, (n, 1)))
+    back = np.full(n, 0.1 * t[-1] + 22.0)
+    k = list(ds["case"].values).index(case)
+    back[k] = 0.1 * t_zone
+    ds["zone_clearance_back"] = ("case", back)
+    ds["zone_clearance_head"] = ("case", np.full(n, math.inf))
+    after = t > t_zone
+    for name in ("roll", "heave"):
+        v = ds[name].values
+        v[k, after] *= wild
+        ds[name] = (("case", "time"), v)
+    v = ds["probe_elevation"].values
+    v[k][:, after] *= wild
+    ds["probe_elevation"] = (("case", "probe", "time"), v)
+    return ds
+
+
+def test_a_hull_in_the_absorbing_zone_ends_the_windows_of_its_findings():
+    """The head-side ship (case5) drifts into the absorbing zone at 9.5 T and then rolls
+    three times as far: the findings comparing it read to 9.5 T, say so, and hold as on
+    the undisturbed data (read to the end, F6 would not hold); the findings without it
+    read to the end. A hull in the zone before t2 + T makes the findings after t2 that
+    read it not determinable, naming it; before t2, those between t1 and t2 too."""
+    clean = {f.id: f for f in findings.compute_findings(_sweep(_paper_like()), GROUPS, 7.0)}
+    ds = _drifting(_sweep(_paper_like()), "case5", 9.5 * T)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    assert all(f.holds is True for fid, f in out.items() if fid not in ("F13", "F14", "F15"))
+    for fid in ("F6", "F12", "F19"):  # after t2, with case5
+        assert out[fid].measured.endswith(
+            "(read to t/T = 9.5, where the hull of case5 reached the absorbing zone)")
+    for fid in ("F1", "F4", "F8", "F11", "F16"):  # after t2, without case5
+        assert out[fid].measured == clean[fid].measured
+    for fid in ("F5", "F7"):  # between t1 and t2
+        assert out[fid].measured == clean[fid].measured
+    # with no zone the same series, read to the end, turn F6 round
+    ds["zone_clearance_back"] = ("case", np.full(ds.sizes["case"], math.inf))
+    assert _verdicts(ds)["F6"] is False
+    # the hull in the zone before t2 + T
+    ds = _drifting(_sweep(_paper_like()), "case5", 7.5 * T)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    label = findings.case_label(dict(opening=10 / 21, side="head", fill=0.0,
+                                     amplitude=study.DEFAULT_AMPLITUDE))
+    for fid in ("F6", "F12", "F19"):
+        assert out[fid].holds is None
+        assert out[fid].measured.startswith(
+            f"case5 ({label}): its hull reached the absorbing zone at t/T = 7.5 (sway +4.")
+        assert out[fid].measured.endswith("before t/T = 8")
+    assert out["F5"].holds is True and out["F7"].holds is True
+    ds = _drifting(_sweep(_paper_like()), "case5", 6.0 * T)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    assert out["F5"].holds is None and out["F7"].holds is None
+    assert out["F5"].measured.endswith("before t/T = 7")
+    assert out["F1"].holds is True  # without case5
+    assert findings.zone_entries(ds, T) == ["case5 at t/T = 6 (sway +3.77 m)"]
+
+
+def test_zone_entry_is_the_first_sample_past_either_clearance():
+    t = np.linspace(0.0, 10.0, 101)
+    sway = 2.0 * np.sin(t)
+    assert findings.zone_entry(t, sway, 1.5) == (t[9], sway[9])  # sin(0.9) = 0.78
+    assert findings.zone_entry(t, sway, 3.0, 1.9)[0] == t[np.argmax(sway <= -1.9)]
+    assert findings.zone_entry(t, sway, 3.0) == (math.inf, pytest.approx(math.nan,
+                                                                         nan_ok=True))
+    sway[:5] = np.nan  # a run that had not started there: no entry from NaN
+    assert findings.zone_entry(t, sway, 1.5)[0] == t[9]
+
+
 def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     """The workflow's findings script on a sweep with a case that blew up: the table, and
     the page's note naming the run, when it stopped and why."""
@@ -260,6 +334,25 @@ def test_figures_name_a_run_that_stopped(tmp_path, figure_script):
     fig_ship.main(tmp_path / "fig22.png", nc, ["W1", "W2"], GROUPS["fill"], "fill", 7.0)
     titles = [ax.get_title() for ax in drawn["axes"]]
     assert any(t.endswith("(stopped at t/T = 8)") for t in titles), titles
+
+
+def test_figures_mark_where_a_hull_reached_the_absorbing_zone(tmp_path, figure_script):
+    """The ship figures mark the sample where a hull reached the absorbing zone (a dot on
+    its line) and say from when in its label or its panel's title."""
+    load, drawn = figure_script
+    fig_ship = load("fig_ship")
+    nc = tmp_path / "sweep.nc"
+    _drifting(_sweep(_paper_like()), "case5", 9.5 * T).to_netcdf(nc)
+    fig_ship.main(tmp_path / "overview.png", nc, ["roll"])
+    labels = [t.get_text() for t in drawn["axes"][0].get_legend().get_texts()]
+    assert labels[4].endswith("(in the absorbing zone from t/T = 9.5)")
+    assert not any("zone" in x for i, x in enumerate(labels) if i != 4)
+    dots = [ln for ln in drawn["axes"][0].get_lines() if ln.get_marker() == "o"]
+    assert len(dots) == 1 and dots[0].get_xdata()[0] == pytest.approx(9.5, abs=0.05 / T)
+    _drifting(_sweep(_paper_like()), "case7", 8.0 * T).to_netcdf(nc)
+    fig_ship.main(tmp_path / "fig22.png", nc, ["W1", "W2"], GROUPS["fill"], "fill", 7.0)
+    titles = [ax.get_title() for ax in drawn["axes"]]
+    assert sum(t.endswith("(in the absorbing zone from t/T = 8.01)") for t in titles) == 1
 
 
 def test_missing_groups_are_not_determinable():

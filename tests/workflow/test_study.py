@@ -287,7 +287,8 @@ def test_ship_defaults_come_from_the_case_file():
     assert over["geometry.wavemaker.amplitude"] == g["wavemaker"]["amplitude"]
 
 
-def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed", seed=0):
+def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed", seed=0,
+              geometry=None):
     rng = np.random.default_rng(seed)
     n = int(round(t_end / dt_out)) + 1
     t = np.arange(n) * dt_out + jitter * rng.random(n) * (np.arange(n) > 0)
@@ -299,7 +300,8 @@ def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed",
                    dx=0.8, wall_clock_seconds=12.5, steps=100, n_total=1000,
                    particle_steps_per_second=8000.0, opening=case["opening"],
                    cargo_density=850.0 if case["fill"] > 0.0 else 1000.0),
-        config_yaml=yaml.safe_dump({"run": {"t_end": t_end, "output_interval": dt_out}}))
+        config_yaml=yaml.safe_dump({"run": {"t_end": t_end, "output_interval": dt_out},
+                                    **({"geometry": geometry} if geometry else {})}))
     write_netcdf_atomic(ds, path)
     return path
 
@@ -307,9 +309,15 @@ def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed",
 def test_gather_builds_a_case_dimension(tmp_path):
     cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
                                dict(case="b", opening="10/21", side="head", fill=0.5)])
+    ship = dict(ship_x=60.0, tank_length=150.0, hull=dict(breadth=16.0),
+                absorber=dict(enabled=True, start=90.0, mirrored=False))
     paths = [_run_file(tmp_path / "a.nc", cases[0], jitter=0.004),
-             _run_file(tmp_path / "b.nc", cases[1], jitter=0.004, seed=1)]
+             _run_file(tmp_path / "b.nc", cases[1], jitter=0.004, seed=1, geometry=ship)]
     ds = study.gather(paths, cases, {"sweep": "demo", "preset": "coarse"})
+    # the hull's back side at 68 m, the zone from 90 m; a run without a hull: none
+    assert ds["zone_clearance_back"].values.tolist() == [math.inf, 22.0]
+    assert ds["zone_clearance_head"].values.tolist() == [math.inf, math.inf]
+    assert ds["zone_clearance_back"].attrs["units"] == "m"
     assert ds.sizes["case"] == 2 and ds.sizes["time"] == 11
     np.testing.assert_allclose(ds["time"].values, np.arange(11) * 0.1)
     assert list(ds["case"].values) == ["a", "b"]
@@ -335,6 +343,23 @@ def test_gather_builds_a_case_dimension(tmp_path):
         assert back.sizes["case"] == 2
         assert back["time"].attrs["units"] == "s"
         assert back["side"].values.tolist() == ["back", "head"]
+
+
+def test_zone_clearance_of_the_paper_ship_and_of_mirrored_and_absent_zones():
+    """The sway at which a side of the upright hull reaches an absorbing zone: the paper's
+    tank (ship at 2H = 60 m, B = 16 m, zone from 3H = 90 m) gives 90 - 68 = 22 m towards
+    +x and none towards the flap; a mirrored zone (the current tank) also bounds -x."""
+    from sph.cases import builtin
+
+    cfg = builtin("damaged_ship").to_dict()
+    assert study.zone_clearance(cfg) == (22.0, math.inf)
+    g = cfg["geometry"]
+    g["absorber"]["mirrored"], g["absorber"]["start"] = True, 100.0
+    # zones [0, 50] and [100, 150]: head side at 52 m, back side at 68 m
+    assert study.zone_clearance(cfg) == (32.0, 2.0)
+    g["absorber"]["enabled"] = False
+    assert study.zone_clearance(cfg) == (math.inf, math.inf)
+    assert study.zone_clearance({"run": {}}) == (math.inf, math.inf)
 
 
 def test_gather_keeps_a_run_that_stopped_and_refuses_a_short_completed_one(tmp_path):

@@ -19,9 +19,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from sph.io.output import read_dataset  # noqa: E402
-from sph.study.findings import case_label, fraction_text, last_sample  # noqa: E402
+from sph.study.findings import (  # noqa: E402
+    case_label,
+    case_zone_entry,
+    fraction_text,
+    last_sample,
+)
 
 LABELS = {
     "roll": "roll (deg)",
@@ -61,6 +67,14 @@ def _stopped(ds, case) -> str:
     return f" (stopped at t/T = {end / _wave(ds, case)[0]:.3g})"
 
 
+def _in_zone(ds, case) -> str:
+    """Empty, or from when the hull of ``case`` lies in the absorbing zone, for its label
+    (the findings read it up to then)."""
+    t = case_zone_entry(ds, case)[0]
+    return f" (in the absorbing zone from t/T = {t / _wave(ds, case)[0]:.3g})" \
+        if np.isfinite(t) else ""
+
+
 def _wave(ds, case):
     """The wave period (s) of a case and its damage time t1 / T (each case its own in a
     sweep over wave frequency)."""
@@ -90,15 +104,21 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
                 amp = float(ds["amplitude"].sel(case=case))
                 label = f"A/d = {fraction_text(amp)}" if amp > 0 else "still water"
             if not probes_per_case:
-                label += _stopped(ds, case)
+                label += _stopped(ds, case) + _in_zone(ds, case)
             ax.plot(ds["time"].values / _wave(ds, case)[0], _series(ds, case, name), lw=1.0,
                     label=label)
+            entry = case_zone_entry(ds, case)[0]
+            if np.isfinite(entry):  # where the findings stop reading it
+                k = int(np.searchsorted(ds["time"].values, entry))
+                ax.plot(entry / _wave(ds, case)[0], _series(ds, case, name)[k], "o",
+                        color=ax.get_lines()[-1].get_color(), ms=4)
         ax.axvline(t1, color="k", ls="--", lw=0.8)
         if t2_periods is not None:
             ax.axvline(t2_periods, color="0.5", ls=":", lw=0.8)
         if probes_per_case:
             ax.set_ylabel("elevation (m)")
-            ax.set_title(case_label(_case(ds, key)) + _stopped(ds, key), fontsize=9)
+            ax.set_title(case_label(_case(ds, key)) + _stopped(ds, key) + _in_zone(ds, key),
+                         fontsize=9)
         else:
             ax.set_ylabel(LABELS.get(key, key))
         ax.legend(fontsize=7, ncol=min(4, len(lines)), loc="upper left")

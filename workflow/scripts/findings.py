@@ -14,6 +14,7 @@ from sph.study.findings import (
     findings_html,
     findings_table,
     stopped_runs,
+    zone_entries,
 )
 from sph.study.sweeps import one_wave
 
@@ -41,6 +42,10 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
     if stopped:
         note += (" Runs that stopped before their end (their findings after that are not "
                  "determinable): " + "; ".join(stopped) + ".")
+    drifted = zone_entries(ds, period)
+    if drifted:
+        note += (" Runs whose hull drifted into the absorbing zone (the findings that read "
+                 "them after t2 end there): " + "; ".join(drifted) + ".")
     with open(out_html, "w") as fh:
         fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
     for f in found:
@@ -49,6 +54,8 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
         logging.getLogger("findings").info("differs from the paper: %s", line)
     for line in stopped:
         logging.getLogger("findings").warning("stopped early: %s", line)
+    for line in drifted:
+        logging.getLogger("findings").info("hull in the absorbing zone: %s", line)
 
 
 if __name__ == "__main__":
