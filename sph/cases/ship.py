@@ -162,6 +162,11 @@ def cargo_area(hull: HullConfig, fill: float) -> float:
     return submerged(hull, hull.plating + fill * hull.depth, hull.plating)[0]
 
 
+def damage_time(cfg: CaseConfig) -> float:
+    """t1 (s): when the opening appears, ``geometry.damage.time_periods`` wave periods."""
+    return cfg.geometry.damage.time_periods * (2.0 * math.pi / cfg.geometry.wavemaker.omega)
+
+
 def check(cfg: CaseConfig) -> None:
     g, dx = cfg.geometry, cfg.numerics.dx
     hull = g.hull
@@ -523,7 +528,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         in_opening = _opening_pids(hull, shell_of_seg, side, z0, z1, pid_hull)
         set_circle(hull_params[d_seg], _opening_circle(hull, side, z0, z1, sc.support,
                                                                 kg))
-        opening = DamageOpening(g.damage.time_periods * period, hull_params[d_seg], in_opening)
+        opening = DamageOpening(damage_time(cfg), hull_params[d_seg], in_opening)
         events.append(opening)
     events.append(HullGuard(hull_params))
 
@@ -575,7 +580,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                  bm=hs["bm"], gm_damaged=gm_damaged[0], gm_damaged_fluid=gm_damaged[1],
                  opening=g.damage.opening if g.damaged_cabins else 0.0,
                  side=g.damage.side, fill=g.fill, cargo_density=g.cargo_density,
-                 damage_time=g.damage.time_periods * period, wave_period=period,
+                 damage_time=damage_time(cfg), wave_period=period,
                  theta0=flap.theta0, omega=omega, wave_amplitude=_amplitude(flap, g, cfg),
                  displacement=m.displacement, dry_mass=m.dry, dry_kg=m.dry_kg,
                  roll_inertia=m.dry_inertia, cargo_mass=m.cargo, cargo_kg=m.cargo_kg,

@@ -23,6 +23,8 @@ from typing import Any
 
 import numpy as np
 
+from sph.cases.ship import damage_time
+
 #: the incident amplitude at the ship is the target within this fraction
 TOLERANCE = 0.02
 #: wave-tank runs at most; a calibration that has not converged by then stops with an error
@@ -66,11 +68,6 @@ def tank_document(ship_doc: Mapping[str, Any]) -> dict:
                      "absorber": dataclasses.asdict(g.absorber)},
         "probes": {"surface": [{"name": PROBE, "x": g.ship_x}]},
     }
-
-
-def damage_time(cfg) -> float:
-    """t1 (s) of a ship case: the start of the measuring window."""
-    return cfg.geometry.damage.time_periods * 2.0 * math.pi / cfg.geometry.wavemaker.omega
 
 
 def incident_amplitude(t, eta, start: float, omega: float) -> float:

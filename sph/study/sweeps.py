@@ -61,6 +61,7 @@ import yaml
 from sph import __version__
 from sph.bodies.wavemaker import wavenumber
 from sph.cases import build_case, load_defaults
+from sph.cases.ship import damage_time
 from sph.engine.config import Fluid
 from sph.io.output import cf_attrs, read_dataset
 from sph.schema import ConfigError
@@ -703,8 +704,7 @@ def predamage_runs(ship: Mapping[str, Mapping]) -> dict[str, dict]:
         over["geometry.damage.opening"] = 0.0
         cfg = check_case_document(case_document("damaged_ship", over),
                                   f"the run to t1 of cases {', '.join(cases)}")
-        t1 = cfg.geometry.damage.time_periods * 2.0 * math.pi / cfg.geometry.wavemaker.omega
-        t_end = t1 - cfg.run.output_interval
+        t_end = damage_time(cfg) - cfg.run.output_interval
         if t_end <= 0.0:
             continue
         over["run.t_end"] = round(t_end, 9)
