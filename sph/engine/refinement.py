@@ -449,7 +449,8 @@ def ghost_sources(x, z, kind, body, hs, grid, radius) -> tuple[np.ndarray, np.nd
         xs, zs = x[sel], z[sel]
         cells = CellGrid(xs.min(), xs.max(), zs.min(), zs.max(), radius * 2.0 ** -lev)
         cells.sort(xs, zs)
-        bins.append((sel[cells.order], cells.cell_start, xs.min(), zs.min(), 1.0 / cells.cell,
+        lx0, _, lz0, _ = cells.bounds  # the level's own, not the domain's
+        bins.append((sel[cells.order], cells.cell_start, lx0, lz0, 1.0 / cells.cell,
                      cells.ncx, cells.ncz))
         _count_sources(x, z, kind, body, hs, *bins[-1], r2, start[1:])
     np.cumsum(start, out=start)
