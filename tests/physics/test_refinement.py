@@ -20,6 +20,7 @@ from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, GHOST, Particles
 from sph.engine.refinement import (
     BUFFER,
+    SPREAD,
     STRAY,
     _cell_span,
     _index_of,
@@ -241,6 +242,55 @@ def test_a_family_with_a_child_astray_merges_into_its_mother():
     assert np.all(active_fluid(q)[q.parent == pid])
     np.testing.assert_allclose(_family_momentum(q, pid)[1:], before[1:], rtol=0,
                                atol=1e-14 * before[0])
+
+
+def test_a_brood_of_ghosts_spread_from_its_mother_is_made_afresh():
+    """A coarse particle in the buffer, active, its four children ghosts: when one of them
+    has been carried more than SPREAD of its mother's spacings from her (children of
+    the sea carried into a flooded cabin), the brood is removed, the mother's mass and
+    momentum untouched, and the next refinement gives her four children tiling her cell
+    again; a brood within reach stays, and an active brood, which carries the family's
+    mass, is never removed however far it spreads."""
+    p = _lattice(12, 4)
+    boxes = pack_boxes([_Box((0.6, 1.2), (-1.0, 2.0), 1)])
+    q, _ = _refined(p, boxes)
+    i = np.nonzero((levels(q.hs) == 0) & (q.x > 0.5) & (q.x < 0.6) & active_fluid(q))[0][0]
+    pid = q.pid[i]
+    kids = np.nonzero(q.parent == pid)[0]
+    assert len(kids) == 4 and np.all(q.body[kids] == GHOST)
+    home = np.c_[q.x[kids], q.z[kids]] - [q.x[i], q.z[i]]
+    assert np.hypot(*home.T).max() < 0.36 * DX
+    def carried(q):  # the active particles' mass, momentum and first moments
+        a = active_fluid(q)
+        return [math.fsum(q.m[a] * c) for c in (1.0, q.vx[a], q.vz[a], q.x[a], q.z[a])]
+
+    totals = carried(q)
+    # within reach: kept
+    q.x[kids[0]] = q.x[i] + 0.99 * SPREAD * DX
+    q, n_gone = assign(q, boxes, DX)
+    assert n_gone == 0 and (q.parent == pid).sum() == 4
+    # one child beyond reach: the brood goes, and nothing else
+    kids = np.nonzero(q.parent == pid)[0]
+    q.x[kids[0]] = q.x[np.nonzero(q.pid == pid)[0][0]] + 1.01 * SPREAD * DX
+    q, n_gone = assign(q, boxes, DX)
+    assert n_gone == 4 and not np.any(q.parent == pid)
+    assert carried(q) == totals  # ghosts carry none of the mass and momentum
+    # the next refinement: a new brood tiling her cell
+    q, n_new = spawn(q, boxes, DX)
+    q, _ = assign(q, boxes, DX)
+    assert n_new == 4
+    i = np.nonzero(q.pid == pid)[0][0]
+    kids = np.nonzero(q.parent == pid)[0]
+    np.testing.assert_allclose(np.c_[q.x[kids], q.z[kids]] - [q.x[i], q.z[i]], home,
+                               rtol=0, atol=1e-12)
+    assert active_fluid(q)[i] and np.all(q.body[kids] == GHOST)
+    # an active brood (a family inside the box) spread as far: kept, active
+    j = np.nonzero((levels(q.hs) == 0) & (np.abs(q.x - 0.9) < 0.05) & (q.z < 0.2))[0][0]
+    brood = np.nonzero(q.parent == q.pid[j])[0]
+    assert np.all(active_fluid(q)[brood])
+    q.z[brood[0]] += 1.01 * SPREAD * DX
+    q, n_gone = assign(q, boxes, DX)
+    assert n_gone == 0 and np.all(active_fluid(q)[q.parent == q.pid[j]])
 
 
 def test_ghost_fields_are_exact_for_a_linear_field():
