@@ -440,8 +440,8 @@ def _interact_variant(gaussian: bool, diffusion: bool, variable: bool):
             if diffusion and ddt_rho == 0.0:
                 accx, accz, div, diff, shep = _sums_general(
                     i, x, z, vx, vz, rho, p, m, kind, body, comp, hs, cell_of, cell_start,
-                    ncx, kp, visc_coef, gx, gz, ddt_rho, delta_coef != 0.0, grx, grz, op, kin,
-                    True, start, inner, inner_end, pwall, pfloor, gw, nxi, nzi)
+                    ncx, kp, visc_coef, gx, gz, ddt_rho, diffusion, grx, grz, op, kin, True,
+                    start, inner, inner_end, pwall, pfloor, gw, nxi, nzi)
             else:
                 k0 = start[i]
                 k1 = inner_end[i]

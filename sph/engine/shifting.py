@@ -90,14 +90,14 @@ def _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs, r2max, op,
     ok, dx, dz, r2, sij = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op,
                                    kin)
     if j == i or not ok or (kind[j] == FLUID and body[j] == GHOST):
-        return 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0
     vj = m[j] / rho[j]
     fw, w = fw_scaled(r2, kp, sij)
     q = w * inv_wdx
     q2 = q * q
     vf = vj * fw
     a = vf * (1.0 + R_ANTI * q2 * q2)
-    return a, a * dx, a * dz, -vf * r2
+    return a * dx, a * dz, -vf * r2
 
 
 @njit(**JIT)
@@ -134,7 +134,7 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
         start, inner, inner_end = lists
         for k in range(start[i], inner_end[i]):
             j = inner[k]
-            a, ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs,
+            ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs,
                                        r2max, op, kin, kp, inv_wdx)
             gx += ax
             gz += az
@@ -143,7 +143,7 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                a, ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp,
+                ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp,
                                            hs, r2max, op, kin, kp, inv_wdx)
                 gx += ax
                 gz += az
