@@ -35,12 +35,12 @@ equilibrium, ``t2_periods * T``):
 - *fluctuation* of Q: ``(max - min) / max`` over ``[t2, t_end]``.
 
 Every window after t2 ends where the runs end, or sooner where the ship drifts: free in
-sway, it drifts with the waves, and once a side of its hull (upright, at the waterline)
-reaches the absorbing zone, the zone damps the flow about it and at its opening. A finding
-reads its cases up to the first moment one of their hulls reaches the zone
-(:func:`zone_entry`; the clearances are :func:`sph.study.sweeps.zone_clearance`), and is
-not determinable where that comes before the end of its window (t2 + T for a finding
-after t2, t2 for one between t1 and t2).
+sway, it drifts with the waves, and once a side of its hull (upright, at the waterline) is
+in the absorbing zone, the zone damps the flow about it and at its opening. A finding
+reads its cases up to the first moment one of their hulls lies where the zone damps at
+2 % of the wave frequency (:func:`zone_entry`; the clearances are
+:func:`sph.study.sweeps.zone_clearance`), and is not determinable where that comes before
+the end of its window (t2 + T for a finding after t2, t2 for one between t1 and t2).
 """
 
 from __future__ import annotations

@@ -805,19 +805,33 @@ def _nominal_times(ds) -> np.ndarray:
     return np.arange(n + 1) * dt
 
 
-def zone_clearance(config: Mapping) -> tuple[float, float]:
+#: a side of the hull counts as in the absorbing zone where the zone's damping rate there
+#: reaches this fraction of the wave frequency: the sink sigma v beside the inertia
+#: omega v of the flow about the hull (in the paper's tank 6.6 m into the zone)
+ZONE_DAMPING = 0.02
+
+
+def zone_clearance(config: Mapping, attrs: Mapping | None = None) -> tuple[float, float]:
     """How far the ship of a resolved case configuration ``config`` may sway towards +x
-    and towards -x before a side of its hull (upright, at the waterline) reaches an
-    absorbing zone: the zone at the tank's end, and its mirror by the flap (``inf`` where
-    there is none, or no hull)."""
+    and towards -x before a side of its hull (upright, at the waterline) lies where an
+    absorbing zone damps at :data:`ZONE_DAMPING` times the wave frequency
+    (:mod:`sph.engine.absorber`: sigma = (c / l) d / (l - d + dx) at a depth d into the
+    zone; ``attrs``, the run's attributes, give its speed ``absorber_speed``, ``omega``
+    and ``dx``; without them, the zone's edge): the zone at the tank's end and its mirror
+    by the flap (``inf`` where there is none, or no hull)."""
     g = config.get("geometry", {})
     zone = g.get("absorber") or {}
     if "hull" not in g or not zone.get("enabled"):
         return math.inf, math.inf
     half = 0.5 * float(g["hull"]["breadth"])
-    start, x = float(zone["start"]), float(g["ship_x"])
-    back = start - (x + half)
-    head = (x - half) - (float(g["tank_length"]) - start) if zone.get("mirrored") \
+    start, x, length = float(zone["start"]), float(g["ship_x"]), float(zone["length"])
+    depth = 0.0  # how far into the zone the damping reaches ZONE_DAMPING omega
+    attrs = attrs or {}
+    if all(k in attrs for k in ("absorber_speed", "omega", "dx")):
+        rate = ZONE_DAMPING * float(attrs["omega"]) * length
+        depth = rate * (length + float(attrs["dx"])) / (float(attrs["absorber_speed"]) + rate)
+    back = start + depth - (x + half)
+    head = (x - half) - (float(g["tank_length"]) - start - depth) if zone.get("mirrored") \
         else math.inf
     return back, head
 
@@ -880,7 +894,7 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         out["case_config"].attrs = cf_attrs("case_config")
         out["case_status"] = status
         out["case_status"].attrs = cf_attrs("case_status")
-        clear = zone_clearance(yaml.safe_load(ds.attrs.get("config", "")) or {})
+        clear = zone_clearance(yaml.safe_load(ds.attrs.get("config", "")) or {}, ds.attrs)
         for name, value in zip(("zone_clearance_back", "zone_clearance_head"), clear,
                                strict=True):
             out[name] = value

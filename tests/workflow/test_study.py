@@ -310,11 +310,12 @@ def test_gather_builds_a_case_dimension(tmp_path):
     cases = study.check_cases([dict(case="a", opening=0, side="back", fill=0),
                                dict(case="b", opening="10/21", side="head", fill=0.5)])
     ship = dict(ship_x=60.0, tank_length=150.0, hull=dict(breadth=16.0),
-                absorber=dict(enabled=True, start=90.0, mirrored=False))
+                absorber=dict(enabled=True, start=90.0, length=60.0, mirrored=False))
     paths = [_run_file(tmp_path / "a.nc", cases[0], jitter=0.004),
              _run_file(tmp_path / "b.nc", cases[1], jitter=0.004, seed=1, geometry=ship)]
     ds = study.gather(paths, cases, {"sweep": "demo", "preset": "coarse"})
-    # the hull's back side at 68 m, the zone from 90 m; a run without a hull: none
+    # the hull's back side at 68 m, the zone from 90 m (the runs name no absorber speed:
+    # its edge); a run without a hull: none
     assert ds["zone_clearance_back"].values.tolist() == [math.inf, 22.0]
     assert ds["zone_clearance_head"].values.tolist() == [math.inf, math.inf]
     assert ds["zone_clearance_back"].attrs["units"] == "m"
@@ -346,17 +347,27 @@ def test_gather_builds_a_case_dimension(tmp_path):
 
 
 def test_zone_clearance_of_the_paper_ship_and_of_mirrored_and_absent_zones():
-    """The sway at which a side of the upright hull reaches an absorbing zone: the paper's
-    tank (ship at 2H = 60 m, B = 16 m, zone from 3H = 90 m) gives 90 - 68 = 22 m towards
-    +x and none towards the flap; a mirrored zone (the current tank) also bounds -x."""
+    """The sway at which a side of the upright hull lies where an absorbing zone damps at
+    2 % of the wave frequency: the paper's tank (ship at 2H = 60 m, B = 16 m, zone from
+    3H = 90 m) gives 90 - 68 = 22 m to the zone's edge towards +x, 6.65 m more to where it
+    damps that much, and none towards the flap; a mirrored zone also bounds -x."""
     from sph.cases import builtin
 
     cfg = builtin("damaged_ship").to_dict()
-    assert study.zone_clearance(cfg) == (22.0, math.inf)
+    assert study.zone_clearance(cfg) == (22.0, math.inf)  # no run attributes: the edge
+    # the damping sigma = (c / l) d / (l - d + dx) reaches 2 % of omega d = 6.65 m in
+    # (c = 9.768 m/s, the phase speed at omega = 1 rad/s and H = 30 m; l = 60 m)
+    run = dict(absorber_speed=9.768, omega=1.0, dx=0.8)
+    back, head = study.zone_clearance(cfg, run)
+    d = back - 22.0
+    assert d == pytest.approx(6.652, abs=1e-3) and head == math.inf
+    assert 9.768 / 60.0 * d / (60.0 - d + 0.8) == pytest.approx(0.02 * 1.0, rel=1e-12)
     g = cfg["geometry"]
     g["absorber"]["mirrored"], g["absorber"]["start"] = True, 100.0
     # zones [0, 50] and [100, 150]: head side at 52 m, back side at 68 m
     assert study.zone_clearance(cfg) == (32.0, 2.0)
+    back, head = study.zone_clearance(cfg, run)
+    assert back == pytest.approx(32.0 + d) and head == pytest.approx(2.0 + d)
     g["absorber"]["enabled"] = False
     assert study.zone_clearance(cfg) == (math.inf, math.inf)
     assert study.zone_clearance({"run": {}}) == (math.inf, math.inf)
