@@ -32,7 +32,7 @@ equilibrium, ``t2_periods * T``):
   between ω/2 and 3ω (a Hann-windowed periodogram on a fine grid); the *mean period* is
   2π over it;
 - *initial inflow rate*: the mean of dQ/dt over ``[t1, t1 + T/2]``;
-- *fluctuation* of Q: ``(max - min) / max`` over ``[t2, t_end]``.
+- *fluctuation* of Q: ``(max - min) / max`` over the window after t2 (below).
 
 Every window after t2 ends where the runs end, or sooner where the ship drifts: free in
 sway, it drifts with the waves, and once a side of its hull (upright, at the waterline) is
