@@ -12,8 +12,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture
 def figure_script(monkeypatch):
-    """Load a script of ``workflow/scripts`` by name; the axes of the figure it saves are
-    kept in the returned mapping (``drawn["axes"]``)."""
+    """Load a script of ``workflow/scripts`` by name; the axes of the figure it saves and
+    the figure's own texts are kept in the returned mapping (``drawn["axes"]``,
+    ``drawn["texts"]``)."""
     import matplotlib.pyplot as plt
 
     drawn = {}
@@ -21,6 +22,7 @@ def figure_script(monkeypatch):
 
     def keep(fig, out, **kw):
         drawn["axes"] = fig.axes
+        drawn["texts"] = [t.get_text() for t in fig.texts]
         return savefig(fig, out, **kw)
 
     monkeypatch.setattr(plt.Figure, "savefig", keep)

@@ -67,9 +67,14 @@ def _stopped(ds, case) -> str:
     return f" (stopped at t/T = {end / _wave(ds, case)[0]:.3g})"
 
 
+#: the figure's note where a line carries a dot (sph.study.findings.case_zone_entry)
+ZONE_NOTE = ("dot: where the ship's hull reached the absorbing zone, drifting with the "
+             "waves; the findings read each run up to there")
+
+
 def _in_zone(ds, case) -> str:
-    """Empty, or from when the hull of ``case`` lies in the absorbing zone, for its label
-    (the findings read it up to then)."""
+    """Empty, or from when the hull of ``case`` lies in the absorbing zone, for its panel's
+    title (the findings read it up to then)."""
     t = case_zone_entry(ds, case)[0]
     return f" (in the absorbing zone from t/T = {t / _wave(ds, case)[0]:.3g})" \
         if np.isfinite(t) else ""
@@ -96,6 +101,7 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
         panels = [(s, cases) for s in series]
     fig, axes = plt.subplots(len(panels), 1, figsize=(9, 2.4 * len(panels) + 0.6),
                              sharex=True, squeeze=False)
+    zoned = False
     for ax, (key, lines) in zip(axes[:, 0], panels, strict=True):
         for line in lines:
             case, name = (key, line) if probes_per_case else (line, key)
@@ -104,7 +110,7 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
                 amp = float(ds["amplitude"].sel(case=case))
                 label = f"A/d = {fraction_text(amp)}" if amp > 0 else "still water"
             if not probes_per_case:
-                label += _stopped(ds, case) + _in_zone(ds, case)
+                label += _stopped(ds, case)
             ax.plot(ds["time"].values / _wave(ds, case)[0], _series(ds, case, name), lw=1.0,
                     label=label)
             entry = case_zone_entry(ds, case)[0]
@@ -112,6 +118,7 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
                 k = int(np.searchsorted(ds["time"].values, entry))
                 ax.plot(entry / _wave(ds, case)[0], _series(ds, case, name)[k], "o",
                         color=ax.get_lines()[-1].get_color(), ms=4)
+                zoned = True
         ax.axvline(t1, color="k", ls="--", lw=0.8)
         if t2_periods is not None:
             ax.axvline(t2_periods, color="0.5", ls=":", lw=0.8)
@@ -132,7 +139,9 @@ def main(out, nc, series, cases=None, group="", t2_periods=None, title="") -> No
     fig.suptitle(title or f"sweep {ds.attrs.get('sweep', '')}, preset "
                  f"{ds.attrs.get('preset', '')} (dx = {ds.attrs.get('dx', float('nan')):g} m)",
                  fontsize=10)
-    fig.tight_layout()
+    if zoned:
+        fig.text(0.01, 0.005, ZONE_NOTE, fontsize=7, ha="left", va="bottom")
+    fig.tight_layout(rect=(0.0, 0.02 if zoned else 0.0, 1.0, 1.0))
     fig.savefig(out, dpi=110)
     plt.close(fig)
 
