@@ -148,3 +148,11 @@ def sigma(x, vx, ab):
         return 0.0
     return ab[AB_SPEED] / ab[AB_LENGTH] * (x - ab[AB_START]) / max(
         ab[AB_START] + ab[AB_LENGTH] - x + ab[AB_DX], ab[AB_DX])
+
+
+def damping_depth(rate: float, speed: float, length: float, dx: float) -> float:
+    """How far into a two-sided zone (its effective speed ``speed``, ``length`` and ``dx``,
+    as packed by :func:`absorber_params`) :func:`sigma` reaches ``rate`` (1/s): the
+    inverse of the profile, (c / l) d / (l - d + dx) = rate."""
+    r = rate * length
+    return r * (length + dx) / (speed + r)

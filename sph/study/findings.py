@@ -949,10 +949,9 @@ def stopped_runs(ds, period: float) -> list[str]:
 def zone_entries(ds, period: float) -> list[str]:
     """The runs of a sweep dataset whose hull reached an absorbing zone, one line per run:
     when (in wave periods ``period``) and at which sway."""
-    s = _Sweep(ds, 0.0)
     out = []
-    for c in s.cases:
-        t, sway = s.zone_entry(c)
+    for c in map(str, ds["case"].values):
+        t, sway = case_zone_entry(ds, c)
         if np.isfinite(t):
             out.append(f"{c} at t/T = {t / period:.3g} (sway {sway:+.3g} m)")
     return out

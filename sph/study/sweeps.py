@@ -62,6 +62,7 @@ from sph import __version__
 from sph.bodies.wavemaker import wavenumber
 from sph.cases import build_case, load_defaults
 from sph.cases.ship import damage_time
+from sph.engine.absorber import damping_depth
 from sph.engine.config import Fluid
 from sph.io.output import cf_attrs, read_dataset
 from sph.schema import ConfigError
@@ -797,8 +798,8 @@ SHARED_ATTRS = ("wave_period", "damage_time", "omega", "dx", "draught", "breadth
                 "hull_depth", "cabin_area", "depth", "kernel", "density_filter")
 
 
-def _nominal_times(ds) -> np.ndarray:
-    cfg = yaml.safe_load(ds.attrs["config"])
+def _nominal_times(cfg: Mapping) -> np.ndarray:
+    """The output times of a run's resolved configuration."""
     dt = float(cfg["run"]["output_interval"])
     t_end = float(cfg["run"]["t_end"])
     n = int(math.floor(t_end / dt + 1e-9))
@@ -828,8 +829,8 @@ def zone_clearance(config: Mapping, attrs: Mapping | None = None) -> tuple[float
     depth = 0.0  # how far into the zone the damping reaches ZONE_DAMPING omega
     attrs = attrs or {}
     if all(k in attrs for k in ("absorber_speed", "omega", "dx")):
-        rate = ZONE_DAMPING * float(attrs["omega"]) * length
-        depth = rate * (length + float(attrs["dx"])) / (float(attrs["absorber_speed"]) + rate)
+        depth = damping_depth(ZONE_DAMPING * float(attrs["omega"]),
+                              float(attrs["absorber_speed"]), length, float(attrs["dx"]))
     back = start + depth - (x + half)
     head = (x - half) - (float(g["tank_length"]) - start - depth) if zone.get("mirrored") \
         else math.inf
@@ -864,10 +865,12 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         raise ValueError("nothing to gather")
     sets = [read_dataset(path) for path in paths]
     statuses = [str(ds.attrs.get("status", "")) for ds in sets]
-    grids = [_nominal_times(ds) for ds in sets]
+    configs = [yaml.safe_load(ds.attrs["config"]) for ds in sets]
+    grids = [_nominal_times(cfg) for cfg in configs]
     grid = max(grids, key=len)
     parts = []
-    for ds, case, own, status in zip(sets, cases, grids, statuses, strict=True):
+    for ds, case, own, status, cfg in zip(sets, cases, grids, statuses, configs,
+                                          strict=True):
         t = ds["time"].values
         if not len(t):
             raise ValueError(f"case {case['case']!r} has no samples (status {status!r})")
@@ -894,7 +897,7 @@ def gather(paths: Sequence[str | Path], cases: Sequence[Mapping], attrs: Mapping
         out["case_config"].attrs = cf_attrs("case_config")
         out["case_status"] = status
         out["case_status"].attrs = cf_attrs("case_status")
-        clear = zone_clearance(yaml.safe_load(ds.attrs.get("config", "")) or {}, ds.attrs)
+        clear = zone_clearance(cfg or {}, ds.attrs)
         for name, value in zip(("zone_clearance_back", "zone_clearance_head"), clear,
                                strict=True):
             out[name] = value

@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from sph.cases import builtin
-from sph.engine.absorber import AB_MIRROR, AbsorberConfig, absorber_params, sigma
+from sph.engine.absorber import (
+    AB_MIRROR,
+    AbsorberConfig,
+    absorber_params,
+    damping_depth,
+    sigma,
+)
 from sph.engine.integrator import verlet_update
 from sph.schema import ConfigError
 
@@ -21,6 +27,14 @@ def test_profile_is_the_hyperbolic_modave_form():
         assert sigma(x, -1.0, ab) == pytest.approx(expect, rel=1e-12)
     xs = np.linspace(90.01, 150.0, 200)
     assert np.all(np.diff([sigma(x, 0.0, ab) for x in xs]) > 0)
+
+
+def test_damping_depth_inverts_the_profile():
+    ab = absorber_params(CFG, speed=99.0, dx=DX)
+    for rate in (0.02, 0.1, 1.0):
+        d = damping_depth(rate, 10.0, 60.0, DX)
+        assert 0.0 < d < 60.0
+        assert sigma(90.0 + d, -1.0, ab) == pytest.approx(rate, rel=1e-12)
 
 
 def test_strength_scales_the_profile_speed():
