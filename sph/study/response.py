@@ -19,7 +19,10 @@ roll natural frequency the roll RAO peaks at a height set by the roll damping.
 The amplitudes are the findings' (:mod:`sph.study.findings`): half the 5-95 % range of the
 oscillation about the one-period running mean (0.988 a for a sine of amplitude a; a ship
 still sinking after the damage adds nothing), over the dynamic equilibrium from
-``t2 = t2_periods T`` to the end of each run, each case with its own period T. They count
+``t2 = t2_periods T`` to the end of each run, each case with its own period T, or to where
+its hull reached the absorbing zone, drifting (:func:`sph.study.findings.case_zone_entry`:
+there the zone damps the ship's motion as well as the waves); a case whose hull got there
+before ``t2 + T`` has no amplitudes (NaN, a gap in the figure's curve). They count
 every harmonic; the table also gives the RAOs of the first harmonic alone (the linear
 RAO): in the long, steep waves of a sweep at fixed slope the roll carries a second harmonic
 near its natural frequency (2 omega = 1.2 rad/s at 0.6 rad/s).
@@ -35,7 +38,15 @@ import math
 from collections.abc import Mapping, Sequence
 
 from sph.bodies.wavemaker import wavenumber
-from sph.study.findings import amplitude, fraction_text, harmonics, oscillation, window
+from sph.study.findings import (
+    amplitude,
+    case_zone_entry,
+    fraction_text,
+    harmonics,
+    last_sample,
+    oscillation,
+    window,
+)
 from sph.study.sweeps import (
     DEFAULT_AMPLITUDE,
     DEFAULT_DEPTH,
@@ -78,7 +89,10 @@ def response_table(ds, t2_periods: float) -> list[dict]:
     (z_a / A), and ``roll_rao_first``, ``heave_rao_first``: the same of the first harmonic
     alone (the sinusoid at omega fitted with a straight line after t2,
     :func:`sph.study.findings.harmonics`; the linear RAO, without the wave's and the ship's
-    higher harmonics). Still-water cases (A = 0) are left out.
+    higher harmonics); ``zone_entry`` (t/T at which the hull reached the absorbing zone,
+    ``inf`` where it never did) and ``read_to`` (t/T of the window's end: the run's end or
+    the zone entry). Where the hull reached the zone before t2 + T the amplitudes and RAOs
+    are NaN. Still-water cases (A = 0) are left out.
     """
     t = ds["time"].values
     draught = float(ds.attrs.get("draught", DEFAULT_DRAUGHT))
@@ -94,17 +108,24 @@ def response_table(ds, t2_periods: float) -> list[dict]:
         k = wavenumber(omega, depth, GRAVITY)
         t2 = t2_periods * period
         series = {name: ds[name].sel(case=case).values for name in ("roll", "heave")}
-        roll, heave = (amplitude(window(t, oscillation(t, y, period), t2))
-                       for y in series.values())
-        roll1, heave1 = (float(abs(harmonics(window(t, t, t2), window(t, y, t2),
-                                             [omega])[0])) for y in series.values())
+        entry = case_zone_entry(ds, case)[0]
+        end = min(entry, last_sample(t, series["roll"]))
+        if end >= t2 + period:
+            roll, heave = (amplitude(window(t, oscillation(t, y, period), t2, end))
+                           for y in series.values())
+            roll1, heave1 = (float(abs(harmonics(window(t, t, t2, end),
+                                                 window(t, y, t2, end), [omega])[0]))
+                             for y in series.values())
+        else:
+            roll = heave = roll1 = heave1 = math.nan
         rows.append(dict(
             case=case, opening=float(ds["opening"].sel(case=case)),
             side=str(ds["side"].sel(case=case).values), fill=float(ds["fill"].sel(case=case)),
             omega=omega, period=period, amplitude=amp, wavenumber=k, steepness=k * amp,
             roll_amplitude=roll, heave_amplitude=heave,
             roll_rao=math.radians(roll) / (k * amp), heave_rao=heave / amp,
-            roll_rao_first=math.radians(roll1) / (k * amp), heave_rao_first=heave1 / amp))
+            roll_rao_first=math.radians(roll1) / (k * amp), heave_rao_first=heave1 / amp,
+            zone_entry=entry / period, read_to=end / period))
     return rows
 
 
@@ -143,7 +164,7 @@ def write_csv(rows: Sequence[Mapping], path) -> None:
 
     fields = ["case", "opening", "side", "fill", "omega", "period", "amplitude", "wavenumber",
               "steepness", "roll_amplitude", "heave_amplitude", "roll_rao", "heave_rao",
-              "roll_rao_first", "heave_rao_first"]
+              "roll_rao_first", "heave_rao_first", "zone_entry", "read_to"]
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()

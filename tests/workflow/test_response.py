@@ -173,3 +173,55 @@ def test_rao_figure_draws_each_ship_against_omega(tmp_path, figure_script):
         table = list(csv.DictReader(fh))
     assert len(table) == 2 * len(OMEGAS)
     assert float(table[0]["roll_rao"]) == pytest.approx(_roll_rao("intact", 0.6), rel=0.02)
+
+
+def test_amplitudes_stop_where_the_hull_reaches_the_absorbing_zone(tmp_path, figure_script):
+    """A run whose hull drifts into the absorbing zone comes to roll a third as much within
+    about a period (the zone damps the ship as well as the waves): read to its entry, the
+    RAO is the free one (within 2 %, as the whole runs above); read to the end the
+    first-harmonic RAO would be 20 % or more low, the range one (which the two free
+    periods before the entry dominate) 5 %. A hull in the zone before
+    t2 + T gives no amplitudes; the figure's note names both."""
+    ds = _dataset(still=False)
+    t = ds["time"].values
+    cases = list(ds["case"].values)
+    cut, lost = cases.index("intact_w080"), cases.index("intact_w120")
+    period = 2 * math.pi / 0.8
+    entry = 9.0 * period
+    roll = ds["roll"].values.copy()
+    fade = np.exp(-np.clip(t - entry, 0.0, None) / period)
+    roll[cut] = roll[cut] * (1.0 + 2.0 * fade) / 3.0
+    sway = np.zeros_like(roll)
+    sway[cut] = 4.0 * t / entry  # reaches the 4 m clearance at t = entry
+    sway[lost] = 4.0 * t / (7.5 * 2 * math.pi / 1.2)
+    ds["roll"] = (("case", "time"), roll)
+    ds["sway"] = (("case", "time"), sway)
+    ds["zone_clearance_back"] = ("case", np.full(len(cases), 4.0))
+    ds["zone_clearance_head"] = ("case", np.full(len(cases), math.inf))
+    rows = {r["case"]: r for r in response.response_table(ds, 7.0)}
+    r = rows["intact_w080"]
+    assert r["zone_entry"] == pytest.approx(9.0, abs=0.01)
+    assert r["read_to"] == r["zone_entry"]
+    assert r["roll_rao"] == pytest.approx(_roll_rao("intact", 0.8), rel=0.02)
+    assert r["roll_rao_first"] == pytest.approx(_roll_rao("intact", 0.8), rel=0.02)
+    whole = response.response_table(ds.drop_vars("sway"), 7.0)
+    w080 = next(w for w in whole if w["case"] == "intact_w080")
+    assert w080["roll_rao_first"] < 0.8 * _roll_rao("intact", 0.8)
+    assert w080["roll_rao"] < 0.95 * _roll_rao("intact", 0.8)
+    assert math.isnan(rows["intact_w120"]["roll_rao"])
+    assert math.isnan(rows["intact_w120"]["heave_rao_first"])
+    assert rows["intact_w100"]["zone_entry"] == math.inf
+    assert rows["intact_w100"]["read_to"] == pytest.approx(12.0, abs=0.01)
+    load, drawn = figure_script
+    fig_rao = load("fig_rao")
+    note = fig_rao.zone_note(list(rows.values()))
+    assert "intact_w080 9 T" in note and "no amplitude: intact_w120" in note
+    assert fig_rao.zone_note(whole) == ""
+    ds.to_netcdf(tmp_path / "rao.nc")
+    lines = fig_rao.main(tmp_path / "rao.png", tmp_path / "rao.csv", tmp_path / "rao.nc")
+    assert drawn["texts"][-1] == note
+    assert np.isnan([r["roll_rao"] for r in lines["intact"]]).sum() == 1  # a gap
+    with open(tmp_path / "rao.csv") as fh:
+        table = {r["case"]: r for r in csv.DictReader(fh)}
+    assert table["intact_w120"]["roll_rao"] == "nan"
+    assert float(table["intact_w080"]["read_to"]) == pytest.approx(9.0, abs=0.01)

@@ -3,7 +3,8 @@
 Rule ``rao_figure``: the sweep dataset ``snakemake.input.nc`` and ``snakemake.params.t2_periods``
 -> ``snakemake.output.png`` (roll amplitude over the wave slope k A and heave amplitude over
 the wave amplitude A against omega, one line per ship, solid with every harmonic and dotted
-with the first harmonic alone, the intact roll natural frequency marked) and
+with the first harmonic alone, the intact roll natural frequency marked; a note names the
+runs read only up to where their hull drifted into the absorbing zone) and
 ``snakemake.output.csv`` (the table of :func:`sph.study.response.response_table`).
 
     python workflow/scripts/fig_rao.py OUT.png OUT.csv SWEEP.nc [T2_PERIODS]
@@ -11,6 +12,7 @@ with the first harmonic alone, the intact roll natural frequency marked) and
 
 
 import logging
+import math
 import sys
 
 import matplotlib
@@ -28,6 +30,21 @@ from sph.study.response import (  # noqa: E402
 
 PANELS = (("roll_rao", "roll amplitude / wave slope kA (deg/deg)"),
           ("heave_rao", "heave amplitude / wave amplitude A"))
+
+
+def zone_note(rows) -> str:
+    """The runs whose hull drifted into the absorbing zone: read up to there, or no
+    amplitudes where that came before t2 + T; empty where none did."""
+    cut = [f"{r['case']} {r['read_to']:.3g} T" for r in rows
+           if math.isfinite(r["zone_entry"]) and math.isfinite(r["roll_rao"])]
+    lost = [r["case"] for r in rows if not math.isfinite(r["roll_rao"])]
+    parts = []
+    if cut:
+        parts.append("read to where the hull reached the absorbing zone: " + ", ".join(cut))
+    if lost:
+        parts.append("hull in the absorbing zone before t2 + T, no amplitude: "
+                     + ", ".join(lost))
+    return "; ".join(parts)
 
 
 def main(out_png, out_csv, nc, t2_periods=7.0, title="") -> dict:
@@ -56,7 +73,10 @@ def main(out_png, out_csv, nc, t2_periods=7.0, title="") -> dict:
         f"sweep {ds.attrs.get('sweep', '')}, preset {ds.attrs.get('preset', '')} (dx = "
         f"{ds.attrs.get('dx', float('nan')):g} m): kA = {', '.join(f'{s:g}' for s in steep)}, "
         f"amplitudes after t2 = {t2_periods:g} T"), fontsize=9)
-    fig.tight_layout()
+    note = zone_note(rows)
+    fig.tight_layout(rect=(0, 0.03 if note else 0, 1, 1))
+    if note:
+        fig.text(0.01, 0.005, note, fontsize=7, ha="left", va="bottom", wrap=True)
     fig.savefig(out_png, dpi=110)
     plt.close(fig)
     return lines
