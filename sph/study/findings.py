@@ -946,6 +946,29 @@ def stopped_runs(ds, period: float) -> list[str]:
     return out
 
 
+def fast_runs(ds, period: float) -> list[str]:
+    """The runs of a sweep dataset in which some particle outran a tenth of the speed of
+    sound after the damage (the limit of weak compressibility: beyond it the density errors
+    grow as the Mach number squared, 1 %), one line per run: the share of its samples after
+    t1, when first (in wave periods ``period``) and how fast at most. Empty where the
+    dataset has no ``max_velocity`` or ``speed_of_sound``."""
+    c0 = float(ds.attrs.get("speed_of_sound", math.nan))
+    if "max_velocity" not in ds.data_vars or not math.isfinite(c0):
+        return []
+    t = ds["time"].values
+    after = t >= float(ds.attrs["damage_time"]) - 1e-9
+    out = []
+    for c in map(str, ds["case"].values):
+        v = ds["max_velocity"].sel(case=c).values
+        ran = after & np.isfinite(v)
+        fast = ran & (v > 0.1 * c0)
+        if np.any(fast):
+            out.append(f"{c}: faster than c0/10 = {0.1 * c0:.3g} m/s in "
+                       f"{100 * fast.sum() / ran.sum():.2g} % of its samples after t1, first "
+                       f"at t/T = {t[fast][0] / period:.3g}, at most {v[ran].max():.3g} m/s")
+    return out
+
+
 def zone_entries(ds, period: float) -> list[str]:
     """The runs of a sweep dataset whose hull reached an absorbing zone, one line per run:
     when (in wave periods ``period``) and at which sway."""

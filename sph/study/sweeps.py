@@ -795,7 +795,8 @@ CASE_SCALARS = ("wall_clock_seconds", "steps", "n_total", "particle_steps_per_se
                 "wave_period", "damage_time")
 #: global attributes that must agree between the runs of a sweep (kept as global attributes)
 SHARED_ATTRS = ("wave_period", "damage_time", "omega", "dx", "draught", "breadth",
-                "hull_depth", "cabin_area", "depth", "kernel", "density_filter")
+                "hull_depth", "cabin_area", "depth", "kernel", "density_filter",
+                "speed_of_sound")
 
 
 def _nominal_times(cfg: Mapping) -> np.ndarray:

@@ -516,3 +516,25 @@ def test_fig10_draws_one_line_per_wave_amplitude(tmp_path, figure_script):
     assert [ax.get_ylabel() for ax in axes] == ["roll (deg)", "heave (m)", "Q/V"]
     labels = [t.get_text() for t in axes[0].get_legend().get_texts()]
     assert labels == ["still water", "A/d = 5/21", "A/d = 5/14", "A/d = 5/7"]
+
+
+def test_runs_with_particles_beyond_weak_compressibility_are_named():
+    """A run whose largest speed passes c0/10 after the damage is named with the share of
+    its samples, when first and how fast; one that passes it only before t1 (the flap's
+    start), one that stays below and one that stopped early (NaN after its end) are
+    not; without the speed of sound nothing is named."""
+    ds = _sweep(_paper_like())
+    t = ds["time"].values
+    v = np.full((ds.sizes["case"], t.size), 5.0)
+    cases = list(ds["case"].values)
+    v[cases.index("case6")] = np.where((t >= 4 * T) & (t < 5 * T), 40.0, 5.0)
+    v[cases.index("case2")] = np.where(t < T1, 40.0, 5.0)
+    v[cases.index("case5"), t > 6 * T] = np.nan
+    ds["max_velocity"] = (("case", "time"), v)
+    assert findings.fast_runs(ds, T) == []  # no speed of sound
+    ds.attrs["speed_of_sound"] = 171.6
+    after = t >= T1
+    share = np.mean(((t >= 4 * T) & (t < 5 * T))[after])
+    assert findings.fast_runs(ds, T) == [
+        f"case6: faster than c0/10 = 17.2 m/s in {100 * share:.2g} % of its samples after "
+        "t1, first at t/T = 4, at most 40 m/s"]

@@ -11,6 +11,7 @@ from sph.io.output import read_dataset
 from sph.study.findings import (
     compute_findings,
     departures,
+    fast_runs,
     findings_html,
     findings_table,
     stopped_runs,
@@ -42,6 +43,11 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
     if stopped:
         note += (" Runs that stopped before their end (their findings after that are not "
                  "determinable): " + "; ".join(stopped) + ".")
+    fast = fast_runs(ds, period)
+    if fast:
+        note += (" Runs in which some particle outran a tenth of the speed of sound after "
+                 "the damage (spray beyond weak compressibility; read their findings with "
+                 "care): " + "; ".join(fast) + ".")
     drifted = zone_entries(ds, period)
     if drifted:
         note += (" Runs whose hull drifted into the absorbing zone (the findings that read "
@@ -54,6 +60,8 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
         logging.getLogger("findings").info("differs from the paper: %s", line)
     for line in stopped:
         logging.getLogger("findings").warning("stopped early: %s", line)
+    for line in fast:
+        logging.getLogger("findings").warning("fast particles: %s", line)
     for line in drifted:
         logging.getLogger("findings").info("hull in the absorbing zone: %s", line)
 
