@@ -63,6 +63,7 @@ from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import MAX_LEVEL, CaseConfig, RefinementBox
 from sph.engine.opening import pack_opening, sdf_many, set_circle
+from sph.engine.kernels import KP_R2MAX
 from sph.engine.particles import FLUID
 from sph.engine.probes import surface_heights
 from sph.schema import ConfigError, spec
@@ -307,6 +308,15 @@ def _to_earth(uw, kg, cog, theta):
     return body, earth
 
 
+def cabin_probe_scale(u, kind, hs, u_probe: float, radius: float) -> float:
+    """The smoothing-length ratio (``hs``) of the region a cabin probe at ``u_probe`` lies
+    in: that of the finest walls within the kernel's reach ``radius`` of its line (the
+    walls of a refined cabin come in every level, the finest where its box covers it); 1
+    under uniform resolution or with no wall in reach."""
+    near = (kind != FLUID) & (np.abs(u - u_probe) < radius)
+    return float(hs[near].min()) if np.any(near) else 1.0
+
+
 def _to_keel(xz, kg, cog, theta):
     ct, st = math.cos(theta), math.sin(theta)
     rx, rz = xz[:, 0] - cog[0], xz[:, 1] - cog[1]
@@ -544,6 +554,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         diagnostics["flood_volume"] = flood_volume
         diagnostics["flood_ratio"] = lambda p, time: flood_volume(p, time) / v_cabin
     kp = sc.kp
+    radius = math.sqrt(kp[KP_R2MAX])
     u_probe = side * (0.5 * hull.breadth - hull.plating - hull.breadth / 160.0)
 
     def cabin_probe(s):
@@ -554,10 +565,19 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                 return 0.0
             xz = np.column_stack([p.x[sel], p.z[sel]])
             u, w = _to_keel(xz, kg, kin[:2], kin[2])
-            out = surface_heights(u, w, p.m[sel], p.rho[sel], p.kind[sel], p.comp[sel], -1,
-                                  np.array([u_probe]), kp, hull.plating, 0.1 * dx,
-                                  True)[0]
-            return 0.0 if math.isnan(out) else float(out - hull.plating)
+            m, rho, kind = p.m[sel], p.rho[sel], p.kind[sel]
+            scale = cabin_probe_scale(u, kind, p.hs[sel], u_probe, radius)
+            if scale != 1.0:
+                # walls of every level line a refined cabin, and the probe lies in one
+                # level's region (the stepper passes only the mass-carrying fluid): that
+                # level's walls and kernel, by lengths measured in its smoothing length
+                keep = (kind == FLUID) | (p.hs[sel] == scale)
+                u, w, m, rho, kind = u[keep] / scale, w[keep] / scale, m[keep] / scale**2, \
+                    rho[keep], kind[keep]
+            out = surface_heights(u, w, m, rho, kind, np.zeros(len(u), dtype=p.comp.dtype),
+                                  -1, np.array([u_probe / scale]), kp, hull.plating / scale,
+                                  0.1 * dx, True)[0]
+            return 0.0 if math.isnan(out) else float(out * scale - hull.plating)
         return height
 
     extra = {"W1": (cabin_probe(0), g.fill * hull.depth if segs[0]["cargo"] else 0.0)}

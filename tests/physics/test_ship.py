@@ -213,6 +213,24 @@ def _refined_still_ship():
     return sim
 
 
+def test_cabin_probe_reads_the_cargo_level_in_a_refined_hull():
+    """W1 in the intact ship with its hull, cabins and cargo at dx / 4 (``refine_hull`` 2,
+    the `refined` preset), at rest: the cargo level within half a fine spacing, as at the
+    coarse spacing. A refined cabin is lined with the walls of every level; the probe,
+    filling its kernel from all of them, stood 'inside the walls' everywhere and read the
+    cabins dry (W1 at the floor, W2 at 0) through the refined Table I sweep until its fix.
+    W2 is dry until the opening appears."""
+    for fill in (0.25, 0.5):
+        sim = Simulation(builtin("damaged_ship", STILL_SMALL_TANK + [
+            "geometry.refine_hull=2", f"geometry.fill={fill}", "geometry.cargo_density=850",
+            "run.t_end=0.004", "run.output_interval=0.002"]))
+        sim.run()
+        ds = sim.dataset()
+        w1 = ds["probe_elevation"].sel(probe="W1").values
+        assert np.all(np.abs(w1) < 0.5 * DX / 4), (fill, w1)
+        assert np.all(ds["probe_elevation"].sel(probe="W2").values == 0.0)
+
+
 def _rebuild_lists(sim):
     """Refine and rebuild the neighbour lists now, as at a rebuild during a step."""
     sim._listed = None
