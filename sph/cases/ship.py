@@ -62,8 +62,8 @@ from sph.cases.base import (
 from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import MAX_LEVEL, CaseConfig, RefinementBox
-from sph.engine.opening import pack_opening, sdf_many, set_circle
 from sph.engine.kernels import KP_R2MAX
+from sph.engine.opening import pack_opening, sdf_many, set_circle
 from sph.engine.particles import FLUID
 from sph.engine.probes import surface_heights
 from sph.schema import ConfigError, spec
