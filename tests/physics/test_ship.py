@@ -166,7 +166,7 @@ def test_loaded_ship_cargo_stays_calm_through_the_flap_start(fill):
 @pytest.mark.slow
 def test_coarse_cargo_stays_on_the_floor_after_the_damage():
     """Table I case 6 at the coarse preset (25 % oil, 2.1 m deep: 2.7 spacings; opening
-    10/21 on the back side at t1 = 19.98 s; the default sweep's calibrated flap angle) to
+    10/21 on the back side at t1 = 19.98 s; the flap angle of the sweep in which it burst) to
     23.5 s, as the workflow runs it (about 5 min on one core). Without the wall damping the
     cargo's particles bounced off the rolling hull, its pressure rang from 21.2 s (its range
     tripling every 0.1 s) and by 22.5 s the cargo was thrown off the floor at 20-50 m/s:
