@@ -565,18 +565,18 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                 return 0.0
             xz = np.column_stack([p.x[sel], p.z[sel]])
             u, w = _to_keel(xz, kg, kin[:2], kin[2])
-            m, rho, kind = p.m[sel], p.rho[sel], p.kind[sel]
-            scale = cabin_probe_scale(u, kind, p.hs[sel], u_probe, radius)
+            m, rho, kind, comp = p.m[sel], p.rho[sel], p.kind[sel], p.comp[sel]
+            hs = p.hs[sel]
+            scale = cabin_probe_scale(u, kind, hs, u_probe, radius)
             if scale != 1.0:
                 # walls of every level line a refined cabin, and the probe lies in one
                 # level's region (the stepper passes only the mass-carrying fluid): that
                 # level's walls and kernel, by lengths measured in its smoothing length
-                keep = (kind == FLUID) | (p.hs[sel] == scale)
-                u, w, m, rho, kind = u[keep] / scale, w[keep] / scale, m[keep] / scale**2, \
-                    rho[keep], kind[keep]
-            out = surface_heights(u, w, m, rho, kind, np.zeros(len(u), dtype=p.comp.dtype),
-                                  -1, np.array([u_probe / scale]), kp, hull.plating / scale,
-                                  0.1 * dx, True)[0]
+                keep = (kind == FLUID) | (hs == scale)
+                u, w, m = u[keep] / scale, w[keep] / scale, m[keep] / scale**2
+                rho, kind, comp = rho[keep], kind[keep], comp[keep]
+            out = surface_heights(u, w, m, rho, kind, comp, -1, np.array([u_probe / scale]),
+                                  kp, hull.plating / scale, 0.1 * dx, True)[0]
             return 0.0 if math.isnan(out) else float(out * scale - hull.plating)
         return height
 

@@ -110,6 +110,10 @@ class StateMismatch(ValueError):
     """A state (:meth:`Stepper.set_state`) that does not fit this stepper."""
 
 
+#: the largest speed over c0 at which the flow stays weakly compressible (density errors of
+#: the order of its square, 1 %); a run warns once past it
+MACH_LIMIT = 0.1
+
 #: scalar state entries of a stepper: name -> type
 STATE_SCALARS = {"t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
                  "n_lost": int, "warned_c0": bool, "n_spawned": int, "n_removed": int}
@@ -539,11 +543,11 @@ class Stepper:
         p, num = self.parts, self.cfg.numerics
         vmax, amax = max_speed_accel(p.vx, p.vz, p.ax, p.az, p.kind)
         self.dt = time_step(num.cfl, self.h * self.hs_min, self.c0, num.alpha, vmax, amax)
-        if not self.warned_c0 and 10.0 * vmax > self.c0:
+        if not self.warned_c0 and vmax > MACH_LIMIT * self.c0:
             self.warned_c0 = True
             log.warning("t = %.4g s: max velocity %.3g m/s exceeds c0/10 = %.3g m/s; "
                         "compressibility errors grow (raise numerics.c_factor)",
-                        self.t, vmax, self.c0 / 10.0)
+                        self.t, vmax, MACH_LIMIT * self.c0)
         s = self.step + 1
         mls_due = num.density_filter == "mls" and s % num.mls_interval == 0
         euler = mls_due or s % num.euler_interval == 0 or self.step == 0

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sph.engine.stepper import MACH_LIMIT
 from sph.study.sweeps import DEFAULT_AMPLITUDE, DEFAULT_OMEGA, one_wave
 
 #: a finding comparing amplitudes "near the minimum" allows this much above the minimum
@@ -948,8 +949,8 @@ def stopped_runs(ds, period: float) -> list[str]:
 
 def fast_runs(ds, period: float) -> list[str]:
     """The runs of a sweep dataset in which some particle outran a tenth of the speed of
-    sound after the damage (the limit of weak compressibility: beyond it the density errors
-    grow as the Mach number squared, 1 %), one line per run: the share of its samples after
+    sound after the damage (the limit of weak compressibility the runs warn of,
+    :data:`sph.engine.stepper.MACH_LIMIT`), one line per run: the share of its samples after
     t1, when first (in wave periods ``period``) and how fast at most. Empty where the
     dataset has no ``max_velocity`` or ``speed_of_sound``."""
     c0 = float(ds.attrs.get("speed_of_sound", math.nan))
@@ -961,9 +962,9 @@ def fast_runs(ds, period: float) -> list[str]:
     for c in map(str, ds["case"].values):
         v = ds["max_velocity"].sel(case=c).values
         ran = after & np.isfinite(v)
-        fast = ran & (v > 0.1 * c0)
+        fast = ran & (v > MACH_LIMIT * c0)
         if np.any(fast):
-            out.append(f"{c}: faster than c0/10 = {0.1 * c0:.3g} m/s in "
+            out.append(f"{c}: faster than c0/10 = {MACH_LIMIT * c0:.3g} m/s in "
                        f"{100 * fast.sum() / ran.sum():.2g} % of its samples after t1, first "
                        f"at t/T = {t[fast][0] / period:.3g}, at most {v[ran].max():.3g} m/s")
     return out
