@@ -1,11 +1,29 @@
 """Shared pytest configuration for the whole suite."""
 
+import os
+
 import numba
 import numpy as np
 import pytest
 
-# Keep numba's thread pool within the 2-core budget of CI and small laptops.
-numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+# The suite runs in two pytest-xdist workers (``-n 2`` in pyproject.toml's addopts), one per
+# core of CI and small laptops. Each worker's runs take one thread by default
+# (``SPH_THREADS``, :func:`sph.engine.jit.set_threads`): two workers of two threads each on
+# two cores spend their time waiting at the parallel loops' barriers. The tests that check
+# the parallel loops ask for two threads themselves (``numerics.threads: 2``), and get
+# them within ``NUMBA_NUM_THREADS``. Without xdist (``-n 0``) every run takes two.
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    os.environ.setdefault("SPH_THREADS", "1")
+DEFAULT_THREADS = min(int(os.environ.get("SPH_THREADS", 2)), 2,
+                      numba.config.NUMBA_NUM_THREADS)
+numba.set_num_threads(DEFAULT_THREADS)
+
+
+@pytest.fixture(autouse=True)
+def _default_threads():
+    """Put the thread count back after a test that set its own (``numerics.threads``)."""
+    yield
+    numba.set_num_threads(DEFAULT_THREADS)
 
 
 @pytest.fixture(autouse=True)
