@@ -14,7 +14,7 @@ import pytest
 # them within ``NUMBA_NUM_THREADS``. Without xdist (``-n 0``) every run takes two.
 if os.environ.get("PYTEST_XDIST_WORKER"):
     os.environ.setdefault("SPH_THREADS", "1")
-DEFAULT_THREADS = max(1, min(int(os.environ.get("SPH_THREADS") or 2), 2,
+DEFAULT_THREADS = max(1, min(int(os.environ.get("SPH_THREADS", 2)), 2,
                              numba.config.NUMBA_NUM_THREADS))
 numba.set_num_threads(DEFAULT_THREADS)
 
