@@ -62,3 +62,22 @@ def test_the_fluid_loop_variants_are_found_again_in_the_cache():
     runs = [subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
                            text=True).stdout for _ in range(2)]
     assert runs[0] == runs[1] and len(runs[0].splitlines()) == 8
+
+
+def test_a_run_that_asks_for_two_threads_gets_two(monkeypatch):
+    """The suite's workers run on one thread by default (``SPH_THREADS=1``, tests/conftest.py);
+    the tests of the parallel loops ask for two (``numerics.threads: 2``) and must get two,
+    or they would check the loops on one thread only. Without the key a run takes
+    ``SPH_THREADS``, and the count is kept within numba's pool (``NUMBA_NUM_THREADS``)."""
+    import numba
+    import pytest
+
+    from sph.engine.jit import set_threads
+
+    limit = numba.config.NUMBA_NUM_THREADS
+    if limit < 2:
+        pytest.skip("NUMBA_NUM_THREADS=1: numba's pool has one thread")
+    monkeypatch.setenv("SPH_THREADS", "1")
+    assert set_threads(2) == 2 and numba.get_num_threads() == 2
+    assert set_threads(0) == 1 and numba.get_num_threads() == 1
+    assert set_threads(limit + 5) == limit
