@@ -43,6 +43,7 @@ from sph import __version__
 from sph.cases import CASES, example_text, load_case
 from sph.driver import RunInterrupted, Simulation, SimulationError
 from sph.io.checkpoint import CheckpointError, checkpoint_dir, resume_or_start, start_from
+from sph.io.status import StatusError, find_outputs, format_table, run_status
 from sph.schema import ConfigError
 
 
@@ -80,6 +81,11 @@ def _parser() -> argparse.ArgumentParser:
     ex = sub.add_parser("example", help="print the YAML of a built-in case")
     ex.add_argument("name", help="case name (see `sph cases`)")
     sub.add_parser("cases", help="list the built-in cases")
+    st = sub.add_parser("status", help="how far runs have got: simulated time, share of "
+                        "run.t_end, wall time, rate (from their outputs and checkpoints)")
+    st.add_argument("outputs", type=Path, nargs="+", metavar="OUTPUT",
+                    help="a run's output path (OUT.nc; it need not exist yet) or a folder "
+                    "of them (every *.nc and *.nc.ckpt in it)")
     return ap
 
 
@@ -99,6 +105,8 @@ def main(argv=None) -> int:
             return 2
         sys.stdout.write(example_text(args.name))
         return 0
+    if args.command == "status":
+        return _status(args.outputs)
     try:
         return _run(args)
     except KeyboardInterrupt:  # before the time loop (while building the particles)
@@ -180,6 +188,25 @@ def _run(args) -> int:
     log.info("done: %d steps in %.1f s wall (%.3g M particle-steps/s); wrote %s", sim.step,
              sim.wall_seconds, sim.particle_steps_per_second() / 1e6, out)
     return 0
+
+
+def _status(paths: list[Path]) -> int:
+    rows, failed = [], False
+    for path in paths:
+        outputs = find_outputs(path) if path.is_dir() and not path.name.endswith(".nc") \
+            else [path]
+        if not outputs:
+            print(f"error: no outputs (*.nc, *.nc.ckpt) in {str(path)!r}", file=sys.stderr)
+            failed = True
+        for out in outputs:
+            try:
+                rows.append(run_status(out))
+            except StatusError as exc:
+                print(f"error: {exc}", file=sys.stderr)
+                failed = True
+    if rows:
+        print(format_table(rows))
+    return 2 if failed else 0
 
 
 def _check_writable(directory: Path) -> None:

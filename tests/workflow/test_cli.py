@@ -289,3 +289,77 @@ def test_progress_bar_redraws_rarely_into_a_log(monkeypatch, tty, fewest, most):
     draws = out.getvalue().count("particle-steps/s")
     assert fewest <= draws <= most  # log: 120 s / 30 s plus the first and last; tty: 2 per s
     assert "t = 10.000/10.000 s" in out.getvalue()
+
+
+def _status_row(capsys, out):
+    """``sph status OUT``: exit status and the table's row of ``out`` as {column: value}."""
+    rc = main(["status", str(out)])
+    text = capsys.readouterr().out.splitlines()
+    head = re.split(r"\s{2,}", text[0].strip())
+    return rc, dict(zip(head, re.split(r"\s{2,}", text[1].strip()), strict=True))
+
+
+def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
+    """A run stopped at run.max_steps: the status reads the simulated time, step and wall
+    time of its checkpoint, which is ahead of the output's last sample, and the output's
+    word on how it ended; resumed to the end, it reads t_end and "completed"."""
+    from sph.io.checkpoint import checkpoint_dir, checkpoint_files
+    from sph.io.status import run_status
+
+    path = case_file("still_water")
+    out = tmp_path / "still.nc"
+    base = ["run", str(path), "-o", str(out), "--no-progress", *set_options(TINY_STILL_WATER),
+            "--set", "run.output_interval=0.02"]
+    assert main(base + ["--set", "run.max_steps=23"]) == 0
+    capsys.readouterr()
+    [ckpt] = checkpoint_files(checkpoint_dir(out))
+    with np.load(ckpt) as a:
+        t_ckpt, wall = float(a["t"]), float(a["wall_seconds"])
+    with xr.open_dataset(out) as ds:
+        t_out, steps = float(ds["time"].values[-1]), int(ds.attrs["steps"])
+    assert steps == 23 and t_out < t_ckpt < 0.05
+
+    st = run_status(out)
+    assert (st.t, st.steps, st.t_end, st.wall_seconds) == (t_ckpt, 23, 0.05, wall)
+    assert st.status.startswith("stopped at run.max_steps = 23")
+    assert st.fraction == pytest.approx(t_ckpt / 0.05) and st.rate == 3600 * t_ckpt / wall
+    rc, row = _status_row(capsys, out)
+    assert rc == 0 and row["case"] == "still_water" and row["steps"] == "23"
+    assert row["t (s)"] == f"{t_ckpt:.2f}" and row["done"] == f"{100 * t_ckpt / 0.05:.1f} %"
+    assert row["status"].startswith("stopped at run.max_steps") and ckpt.name in row["status"]
+
+    assert main(base) == 0  # resumes from the checkpoint to t_end
+    capsys.readouterr()
+    st = run_status(out)
+    assert st.status == "completed" and st.t == 0.05 and st.steps > 23
+    rc, row = _status_row(capsys, out)
+    assert rc == 0 and row["done"] == "100.0 %" and row["status"] == "completed"
+
+
+def test_status_of_runs_not_started_and_of_other_files(tmp_path, capsys):
+    """An output path with neither file is a run not started; a folder lists its outputs
+    (files and checkpoint folders); a file that is not a run's output is an error naming
+    it (exit status 2), the other rows still printed."""
+    from sph.io.status import find_outputs
+
+    (tmp_path / "a.nc.ckpt").mkdir()
+    (tmp_path / "b.txt").write_text("not an output\n")
+    (tmp_path / "c.nc").write_text("not netCDF\n")
+    assert find_outputs(tmp_path) == [tmp_path / "a.nc", tmp_path / "c.nc"]
+
+    rc, row = _status_row(capsys, tmp_path / "later.nc")
+    assert rc == 0 and row["status"] == "not started" and row["t (s)"] == "0.00"
+
+    rc = main(["status", str(tmp_path / "later.nc"), str(tmp_path / "b.txt")])
+    cap = capsys.readouterr()
+    assert rc == 2 and "not started" in cap.out
+    [line] = _stderr_lines(cap.err)
+    assert line.startswith(f"error: {tmp_path / 'b.txt'}: not a netCDF file")
+    rc = main(["status", str(tmp_path)])  # a.nc: checkpoint folder, empty; c.nc: an error
+    cap = capsys.readouterr()
+    assert rc == 2 and "not netCDF" not in cap.out and "c.nc: not a netCDF file" in cap.err
+    assert "a.nc" in cap.out and "not started" in cap.out
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert main(["status", str(empty)]) == 2
+    assert "no outputs" in capsys.readouterr().err

@@ -1,0 +1,162 @@
+"""How far a run has got, read from its output file and its newest checkpoint without
+running anything (``sph status``).
+
+A long run (the refined Table I cases take hours to days) writes its partial output every
+``run.flush_seconds`` of wall time and a checkpoint every ``run.checkpoint_wall_seconds``
+(:mod:`sph.driver`, :mod:`sph.io.checkpoint`). Either may be the newer: the status takes
+the simulated time, step and elapsed wall time from the newer of the two, and the run's
+own word on how it ended (``status`` of the output: ``completed``, ``interrupted ...``,
+``failed: ...``) from the output. A partial output says ``running`` while the run is going
+and keeps saying it if the process was killed; the age of the newest file tells which.
+"""
+
+from __future__ import annotations
+
+import time
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from sph.io.checkpoint import checkpoint_dir, checkpoint_files
+
+
+class StatusError(ValueError):
+    """A path that is not a run's output."""
+
+
+@dataclass(frozen=True)
+class RunStatus:
+    """Where one run stands.
+
+    ``t`` and ``steps`` are the simulated time and step reached (0 for a run not started),
+    ``t_end`` the case's ``run.t_end`` (None when neither file exists), ``wall_seconds``
+    the wall time the run has spent computing over all its starts (for a run started from
+    another run's checkpoint, that run's time to the checkpoint included), ``updated`` the
+    modification time of the newer file (seconds since the epoch)."""
+
+    output: Path
+    case: str
+    status: str
+    t: float
+    t_end: float | None
+    steps: int
+    wall_seconds: float
+    updated: float | None
+    source: str
+
+    @property
+    def fraction(self) -> float | None:
+        """The share of ``run.t_end`` simulated."""
+        return self.t / self.t_end if self.t_end else None
+
+    @property
+    def rate(self) -> float | None:
+        """Simulated seconds per wall hour, averaged over the run so far."""
+        return 3600.0 * self.t / self.wall_seconds if self.wall_seconds > 0 else None
+
+
+def _from_output(path: Path) -> dict | None:
+    import xarray as xr
+
+    if not path.exists():
+        return None
+    if path.is_dir():
+        raise StatusError(f"{path}: is a directory, not an output file")
+    try:
+        with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
+            attrs = dict(ds.attrs)
+            t = float(ds["time"].values[-1]) if "time" in ds and ds["time"].size else 0.0
+    except (OSError, ValueError) as exc:
+        raise StatusError(f"{path}: not a netCDF file ({str(exc).splitlines()[0]})") from None
+    if "config" not in attrs or "status" not in attrs:
+        raise StatusError(f"{path}: not an sph-flood output (no 'config' and 'status' "
+                          f"attributes)")
+    cfg = yaml.safe_load(attrs["config"]) or {}
+    return dict(case=str(attrs.get("case", cfg.get("case", "?"))), status=str(attrs["status"]),
+                t=t, t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
+                steps=int(attrs.get("steps", 0)),
+                wall_seconds=float(attrs.get("wall_clock_seconds", 0.0)),
+                updated=path.stat().st_mtime)
+
+
+def _from_checkpoint(directory: Path) -> dict | None:
+    """The scalars of the newest readable checkpoint (its checksum is not verified: that
+    would read every particle; a run that resumes verifies it)."""
+    for path in reversed(checkpoint_files(directory)):
+        try:
+            with np.load(path, allow_pickle=False) as a:
+                cfg = yaml.safe_load(str(a["config"])) or {}
+                return dict(case=str(cfg.get("case", "?")), t=float(a["t"]),
+                            t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
+                            steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
+                            updated=path.stat().st_mtime, name=path.name)
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, yaml.YAMLError):
+            continue
+    return None
+
+
+def run_status(output: str | Path) -> RunStatus:
+    """The status of the run writing ``output`` (its ``.nc`` path, which need not exist
+    yet). Raises :class:`StatusError` for a path that is not a run's output."""
+    output = Path(output)
+    out = _from_output(output)
+    ckpt = _from_checkpoint(checkpoint_dir(output))
+    if out is None and ckpt is None:
+        return RunStatus(output, "?", "not started", 0.0, None, 0, 0.0, None, "")
+    if out is not None and out["status"] == "completed" and out["t_end"]:
+        # the run stepped to t_end; its last sample is the last output time before it
+        out["t"], newer, status = out["t_end"], out, out["status"]
+    elif out is None:
+        status, newer = "started (no output written yet)", ckpt
+    elif ckpt is None or out["t"] >= ckpt["t"]:
+        status, newer = out["status"], out
+    else:  # the checkpoint is ahead of the last flush of the output
+        status, newer = out["status"], ckpt
+    source = f"checkpoint {ckpt['name']}" if newer is ckpt else "output"
+    updated = max(d["updated"] for d in (out, ckpt) if d is not None)
+    return RunStatus(output, newer["case"], status, newer["t"], newer["t_end"],
+                     newer["steps"], newer["wall_seconds"], updated, source)
+
+
+def find_outputs(directory: str | Path) -> list[Path]:
+    """The outputs of the runs in ``directory``: every ``*.nc`` and every ``*.nc.ckpt``
+    checkpoint folder (as its output's path), sorted."""
+    d = Path(directory)
+    found = {p for p in d.glob("*.nc") if p.is_file()}
+    found |= {p.with_name(p.name[:-len(".ckpt")]) for p in d.glob("*.nc.ckpt") if p.is_dir()}
+    return sorted(found)
+
+
+def _age(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s ago"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min ago"
+    if seconds < 172800:
+        return f"{seconds / 3600:.1f} h ago"
+    return f"{seconds / 86400:.1f} d ago"
+
+
+def format_table(rows: list[RunStatus], now: float | None = None) -> str:
+    """A plain-text table, one line per run."""
+    now = time.time() if now is None else now
+    head = ("output", "case", "t (s)", "t_end (s)", "done", "steps", "wall (h)",
+            "sim s / wall h", "updated", "status")
+    lines = [head]
+    for r in rows:
+        lines.append((
+            str(r.output), r.case, f"{r.t:.2f}",
+            "-" if r.t_end is None else f"{r.t_end:.2f}",
+            "-" if r.fraction is None else f"{100 * r.fraction:.1f} %",
+            str(r.steps), f"{r.wall_seconds / 3600:.2f}",
+            "-" if r.rate is None else f"{r.rate:.3g}",
+            "-" if r.updated is None else _age(max(0.0, now - r.updated)),
+            r.status + (f" ({r.source})" if r.source.startswith("checkpoint") else ""),
+        ))
+    widths = [max(len(line[k]) for line in lines) for k in range(len(head) - 1)]
+    return "\n".join(
+        "  ".join([c.ljust(w) for c, w in zip(line[:-1], widths, strict=True)] + [line[-1]])
+        for line in lines)
