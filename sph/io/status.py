@@ -35,7 +35,9 @@ class RunStatus:
     ``t_end`` the case's ``run.t_end`` (None when neither file exists), ``wall_seconds``
     the wall time the run has spent computing over all its starts (for a run started from
     another run's checkpoint, that run's time to the checkpoint included), ``updated`` the
-    modification time of the newer file (seconds since the epoch)."""
+    modification time of the newer file (seconds since the epoch), ``recent_rate`` the
+    simulated seconds per wall hour between the two newest checkpoints (a run keeps two;
+    None with fewer)."""
 
     output: Path
     case: str
@@ -46,6 +48,7 @@ class RunStatus:
     wall_seconds: float
     updated: float | None
     source: str
+    recent_rate: float | None = None
 
     @property
     def fraction(self) -> float | None:
@@ -56,6 +59,16 @@ class RunStatus:
     def rate(self) -> float | None:
         """Simulated seconds per wall hour, averaged over the run so far."""
         return 3600.0 * self.t / self.wall_seconds if self.wall_seconds > 0 else None
+
+    @property
+    def hours_left(self) -> float | None:
+        """Wall hours to ``t_end`` at the recent rate (else the average one), for a run
+        that has not ended: a partial output that says ``running`` or a checkpoint alone."""
+        rate = self.recent_rate or self.rate
+        going = self.status == "running" or self.status.startswith("started")
+        if not going or not rate or self.t_end is None:
+            return None
+        return max(0.0, self.t_end - self.t) / rate
 
 
 def _from_output(path: Path) -> dict | None:
@@ -82,20 +95,24 @@ def _from_output(path: Path) -> dict | None:
                 updated=path.stat().st_mtime)
 
 
-def _from_checkpoint(directory: Path) -> dict | None:
-    """The scalars of the newest readable checkpoint (its checksum is not verified: that
-    would read every particle; a run that resumes verifies it)."""
+def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
+    """The scalars of the ``most`` newest readable checkpoints, newest first (their
+    checksums are not verified: that would read every particle; a run that resumes
+    verifies its own)."""
+    found = []
     for path in reversed(checkpoint_files(directory)):
         try:
             with np.load(path, allow_pickle=False) as a:
                 cfg = yaml.safe_load(str(a["config"])) or {}
-                return dict(case=str(cfg.get("case", "?")), t=float(a["t"]),
-                            t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
-                            steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
-                            updated=path.stat().st_mtime, name=path.name)
+                found.append(dict(case=str(cfg.get("case", "?")), t=float(a["t"]),
+                                  t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
+                                  steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
+                                  updated=path.stat().st_mtime, name=path.name))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, yaml.YAMLError):
             continue
-    return None
+        if len(found) == most:
+            break
+    return found
 
 
 def run_status(output: str | Path) -> RunStatus:
@@ -103,7 +120,12 @@ def run_status(output: str | Path) -> RunStatus:
     yet). Raises :class:`StatusError` for a path that is not a run's output."""
     output = Path(output)
     out = _from_output(output)
-    ckpt = _from_checkpoint(checkpoint_dir(output))
+    ckpts = _from_checkpoints(checkpoint_dir(output))
+    ckpt = ckpts[0] if ckpts else None
+    recent = None
+    if len(ckpts) == 2 and ckpts[0]["wall_seconds"] > ckpts[1]["wall_seconds"]:
+        recent = 3600.0 * ((ckpts[0]["t"] - ckpts[1]["t"])
+                           / (ckpts[0]["wall_seconds"] - ckpts[1]["wall_seconds"]))
     if out is None and ckpt is None:
         return RunStatus(output, "?", "not started", 0.0, None, 0, 0.0, None, "")
     if out is not None and out["status"] == "completed" and out["t_end"]:
@@ -118,7 +140,7 @@ def run_status(output: str | Path) -> RunStatus:
     source = f"checkpoint {ckpt['name']}" if newer is ckpt else "output"
     updated = max(d["updated"] for d in (out, ckpt) if d is not None)
     return RunStatus(output, newer["case"], status, newer["t"], newer["t_end"],
-                     newer["steps"], newer["wall_seconds"], updated, source)
+                     newer["steps"], newer["wall_seconds"], updated, source, recent)
 
 
 def find_outputs(directory: str | Path) -> list[Path]:
@@ -144,7 +166,7 @@ def format_table(rows: list[RunStatus], now: float | None = None) -> str:
     """A plain-text table, one line per run."""
     now = time.time() if now is None else now
     head = ("output", "case", "t (s)", "t_end (s)", "done", "steps", "wall (h)",
-            "sim s / wall h", "updated", "status")
+            "sim s / wall h", "recent", "left (h)", "updated", "status")
     lines = [head]
     for r in rows:
         lines.append((
@@ -153,6 +175,8 @@ def format_table(rows: list[RunStatus], now: float | None = None) -> str:
             "-" if r.fraction is None else f"{100 * r.fraction:.1f} %",
             str(r.steps), f"{r.wall_seconds / 3600:.2f}",
             "-" if r.rate is None else f"{r.rate:.3g}",
+            "-" if r.recent_rate is None else f"{r.recent_rate:.3g}",
+            "-" if r.hours_left is None else f"{r.hours_left:.1f}",
             "-" if r.updated is None else _age(max(0.0, now - r.updated)),
             r.status + (f" ({r.source})" if r.source.startswith("checkpoint") else ""),
         ))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import xml.etree.ElementTree as ET
 
@@ -301,8 +302,9 @@ def _status_row(capsys, out):
 
 def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     """A run stopped at run.max_steps: the status reads the simulated time, step and wall
-    time of its checkpoint, which is ahead of the output's last sample, and the output's
-    word on how it ended; resumed to the end, it reads t_end and "completed"."""
+    time of its newest checkpoint, which is ahead of the output's last sample, the rate
+    between its two checkpoints and the output's word on how it ended; resumed to the end,
+    it reads t_end and "completed"."""
     from sph.io.checkpoint import checkpoint_dir, checkpoint_files
     from sph.io.status import run_status
 
@@ -310,9 +312,11 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     out = tmp_path / "still.nc"
     base = ["run", str(path), "-o", str(out), "--no-progress", *set_options(TINY_STILL_WATER),
             "--set", "run.output_interval=0.02"]
-    assert main(base + ["--set", "run.max_steps=23"]) == 0
+    assert main(base + ["--set", "run.max_steps=23", "--set", "run.checkpoint_interval=0.02"]) == 0
     capsys.readouterr()
-    [ckpt] = checkpoint_files(checkpoint_dir(out))
+    older, ckpt = checkpoint_files(checkpoint_dir(out))
+    with np.load(older) as a:
+        t_old, wall_old = float(a["t"]), float(a["wall_seconds"])
     with np.load(ckpt) as a:
         t_ckpt, wall = float(a["t"]), float(a["wall_seconds"])
     with xr.open_dataset(out) as ds:
@@ -323,6 +327,11 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert (st.t, st.steps, st.t_end, st.wall_seconds) == (t_ckpt, 23, 0.05, wall)
     assert st.status.startswith("stopped at run.max_steps = 23")
     assert st.fraction == pytest.approx(t_ckpt / 0.05) and st.rate == 3600 * t_ckpt / wall
+    assert 0.02 <= t_old < t_ckpt and wall_old < wall
+    assert st.recent_rate == 3600 * (t_ckpt - t_old) / (wall - wall_old)
+    assert st.hours_left is None  # the run has stopped
+    going = dataclasses.replace(st, status="running")  # as a partial output of a live run
+    assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
     rc, row = _status_row(capsys, out)
     assert rc == 0 and row["case"] == "still_water" and row["steps"] == "23"
     assert row["t (s)"] == f"{t_ckpt:.2f}" and row["done"] == f"{100 * t_ckpt / 0.05:.1f} %"
@@ -331,7 +340,7 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert main(base) == 0  # resumes from the checkpoint to t_end
     capsys.readouterr()
     st = run_status(out)
-    assert st.status == "completed" and st.t == 0.05 and st.steps > 23
+    assert st.status == "completed" and st.t == 0.05 and st.steps > 23 and st.hours_left is None
     rc, row = _status_row(capsys, out)
     assert rc == 0 and row["done"] == "100.0 %" and row["status"] == "completed"
 
