@@ -193,8 +193,12 @@ def _run(args) -> int:
 def _status(paths: list[Path]) -> int:
     rows, failed = [], False
     for path in paths:
-        outputs = find_outputs(path) if path.is_dir() and not path.name.endswith(".nc") \
-            else [path]
+        if path.name.endswith(".nc.ckpt"):  # a checkpoint folder stands for its output
+            outputs = [path.with_name(path.name[:-len(".ckpt")])]
+        elif path.is_dir() and not path.name.endswith(".nc"):
+            outputs = find_outputs(path)
+        else:
+            outputs = [path]
         if not outputs:
             print(f"error: no outputs (*.nc, *.nc.ckpt) in {str(path)!r}", file=sys.stderr)
             failed = True

@@ -333,6 +333,9 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     going = dataclasses.replace(st, status="running")  # as a partial output of a live run
     assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
     rc, row = _status_row(capsys, out)
+    rc_folder, row_folder = _status_row(capsys, checkpoint_dir(out))  # names its run
+    assert rc_folder == 0 and row_folder["t (s)"] == row["t (s)"]
+    assert row_folder["output"] == row["output"] == str(out)
     assert rc == 0 and row["case"] == "still_water" and row["steps"] == "23"
     assert row["t (s)"] == f"{t_ckpt:.2f}" and row["done"] == f"{100 * t_ckpt / 0.05:.1f} %"
     assert row["status"].startswith("stopped at run.max_steps") and ckpt.name in row["status"]
