@@ -328,7 +328,7 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert st.status.startswith("stopped at run.max_steps = 23")
     assert st.fraction == pytest.approx(t_ckpt / 0.05) and st.rate == 3600 * t_ckpt / wall
     assert 0.02 <= t_old < t_ckpt and wall_old < wall
-    assert st.recent_rate == 3600 * (t_ckpt - t_old) / (wall - wall_old)
+    assert st.recent_rate == pytest.approx(3600 * (t_ckpt - t_old) / (wall - wall_old), rel=1e-12)
     assert st.hours_left is None  # the run has stopped
     going = dataclasses.replace(st, status="running")  # as a partial output of a live run
     assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
