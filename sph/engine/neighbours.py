@@ -135,28 +135,40 @@ class NeighbourList:
         self.index = np.zeros(0, dtype=self.DTYPE_INDEX)
         self.inner = np.zeros(0, dtype=self.DTYPE_INDEX)
         self.inner_end = np.zeros(0, dtype=self.DTYPE_START)
+        # the build's work: each particle's room (its candidates) and the lists in it
+        self._room = np.zeros(1, dtype=self.DTYPE_START)
+        self._scratch = np.zeros(0, dtype=self.DTYPE_INDEX)
 
     def build(self, x, z, kind, grid: CellGrid, radius: float, hs) -> None:
         """Lists of radius ``radius`` from the cells of ``grid`` (particles sorted by it);
         under variable resolution a pair's radius is ``radius`` times its smoothing length
-        ratio (``hs``, :func:`sph.engine.kernels.pair_scale`; None: uniform)."""
+        ratio (``hs``, :func:`sph.engine.kernels.pair_scale`; None: uniform).
+
+        One pass over the candidates: each particle's list is written into room for all
+        its candidates (the particles of the three rows of cells around it) as its
+        distances are tested, then the lists are packed, in the same order."""
         n = x.shape[0]
         if self.start.shape[0] != n + 1:
             self.start = np.zeros(n + 1, dtype=self.DTYPE_START)
+            self._room = np.zeros(n + 1, dtype=self.DTYPE_START)
         # each level's particles in cells of their own (pairs of different levels are
         # never listed), or all in the grid's
         bins = [(None, grid)] if hs is None else _level_grids(x, z, hs, grid, radius)
+        self._room[:] = 0
+        for perm, g in bins:
+            _candidate_counts(perm, g.cell_of, g.cell_start, g.ncx, self._room[1:])
+        np.cumsum(self._room[1:], out=self._room[1:])
+        if self._scratch.shape[0] < self._room[n]:
+            self._scratch = np.empty(int(1.2 * self._room[n]) + 16, dtype=self.DTYPE_INDEX)
         self.start[:] = 0
         for perm, g in bins:
-            _count_neighbours(x, z, kind, hs, perm, g.cell_of, g.cell_start, g.ncx,
-                              radius * radius, self.start[1:])
+            _fill_candidates(x, z, kind, hs, perm, g.cell_of, g.cell_start, g.ncx,
+                             radius * radius, self._room, self._scratch, self.start[1:])
         np.cumsum(self.start[1:], out=self.start[1:])
         total = int(self.start[n])
         if self.index.shape[0] < total:
             self.index = np.empty(int(1.2 * total) + 16, dtype=self.DTYPE_INDEX)
-        for perm, g in bins:
-            _fill_neighbours(x, z, kind, hs, perm, g.cell_of, g.cell_start, g.ncx,
-                             radius * radius, self.start, self.index)
+        _pack_lists(self.start, self._room, self._scratch, self.index)
 
     def refresh(self, x, z, radius: float, hs) -> None:
         """The inner lists of radius ``radius`` (at most the radius of :meth:`build`, and
@@ -215,50 +227,45 @@ def _inside(x, z, xmin, xmax, zmin, zmax):
 
 
 @njit(**JIT_PARALLEL)
-def _count_neighbours(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, counts):
-    """The length of each particle's list into ``counts``. The particles are binned in
+def _candidate_counts(perm, cell_of, cell_start, ncx, room):
+    """The number of candidates of each particle (the particles in the three rows of cells
+    around it) into ``room``: the most its list can hold. The particles are binned in
     ``cell_of``/``cell_start`` in the order of ``perm`` (the particles of one refinement
     level in cells of their own), or in their own order (``perm`` None)."""
     for k in prange(cell_of.shape[0]):
-        if perm is None:
-            i = np.int64(k)
-        else:
-            i = np.int64(perm[k])
-        cnt = 0
+        i = np.int64(k) if perm is None else np.int64(perm[k])
         c = cell_of[k]
-        for row in (c - ncx, c, c + ncx):
-            for m in range(cell_start[row - 1], cell_start[row + 2]):
-                if perm is None:
-                    j = np.int64(m)
-                else:
-                    j = np.int64(perm[m])
-                cnt += 1 if _listed(i, j, x, z, kind, hs, r2) else 0
-        counts[i] = cnt
+        room[i] = ((cell_start[c - ncx + 2] - cell_start[c - ncx - 1])
+                   + (cell_start[c + 2] - cell_start[c - 1])
+                   + (cell_start[c + ncx + 2] - cell_start[c + ncx - 1]))
 
 
 @njit(**JIT_PARALLEL)
-def _fill_neighbours(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, start, index):
-    """Each particle's list into ``index[start[i]:start[i + 1]]``, binned as in
-    :func:`_count_neighbours`."""
+def _fill_candidates(x, z, kind, hs, perm, cell_of, cell_start, ncx, r2, room, scratch,
+                     counts):
+    """Each particle's list into ``scratch[room[i]:]`` and its length into ``counts``,
+    binned as in :func:`_candidate_counts`. Every candidate is stored and kept when listed
+    (branch-free): a particle's room holds all its candidates."""
     for k in prange(cell_of.shape[0]):
-        if perm is None:
-            i = np.int64(k)
-        else:
-            i = np.int64(perm[k])
-        if start[i + 1] == start[i]:
-            continue
-        e = start[i]
-        end = start[i + 1]
+        i = np.int64(k) if perm is None else np.int64(perm[k])
+        e = room[i]
         c = cell_of[k]
         for row in (c - ncx, c, c + ncx):
             for m in range(cell_start[row - 1], cell_start[row + 2]):
-                if perm is None:
-                    j = np.int64(m)
-                else:
-                    j = np.int64(perm[m])
-                if e < end:  # the last store of a full list would fall on the next one
-                    index[e] = j
+                j = np.int64(m) if perm is None else np.int64(perm[m])
+                scratch[e] = j
                 e += np.uint64(1) if _listed(i, j, x, z, kind, hs, r2) else np.uint64(0)
+        counts[i] = e - room[i]
+
+
+@njit(**JIT_PARALLEL)
+def _pack_lists(start, room, scratch, index):
+    """The lists from their rooms in ``scratch`` into ``index[start[i]:start[i + 1]]``."""
+    for i in prange(start.shape[0] - 1):
+        a = start[i]
+        b = room[i]
+        for q in range(start[i + 1] - a):
+            index[a + q] = scratch[b + q]
 
 
 @njit(**JIT_PARALLEL)
