@@ -1,7 +1,7 @@
 """Still water across refinement levels (slow): a tank 1 m long and 1 m deep at dx = 0.1 m
 with one box of level 1 (two levels) or a box of level 2 inside it (three levels, dx down to
 0.025 m), settled for 60 s. Run with
-``python -m pytest -m slow tests/physics/test_refinement_still.py`` (about 4 minutes on
+``python -m pytest -n 0 -m slow tests/physics/test_refinement_still.py`` (about 4 minutes on
 one core).
 
 What holds: the largest speed of the mass-carrying particles is below 0.5 % of sqrt(g H),
