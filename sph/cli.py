@@ -42,7 +42,13 @@ from pathlib import Path
 from sph import __version__
 from sph.cases import CASES, example_text, load_case
 from sph.driver import RunInterrupted, Simulation, SimulationError
-from sph.io.checkpoint import CheckpointError, checkpoint_dir, resume_or_start, start_from
+from sph.io.checkpoint import (
+    CheckpointError,
+    checkpoint_dir,
+    output_of,
+    resume_or_start,
+    start_from,
+)
 from sph.io.status import StatusError, find_outputs, format_table, run_status
 from sph.schema import ConfigError
 
@@ -194,7 +200,7 @@ def _status(paths: list[Path]) -> int:
     rows, failed = [], False
     for path in paths:
         if path.name.endswith(".nc.ckpt"):  # a checkpoint folder stands for its output
-            outputs = [path.with_name(path.name[:-len(".ckpt")])]
+            outputs = [output_of(path)]
         elif path.is_dir() and not path.name.endswith(".nc"):
             outputs = find_outputs(path)
         else:

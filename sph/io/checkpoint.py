@@ -113,6 +113,13 @@ def checkpoint_dir(out_path: str | os.PathLike[str]) -> Path:
     return out.with_name(out.name + ".ckpt")
 
 
+def output_of(directory: str | os.PathLike[str]) -> Path:
+    """The output file of a checkpoint directory: ``OUT.nc.ckpt`` -> ``OUT.nc``
+    (the inverse of :func:`checkpoint_dir`)."""
+    d = Path(directory)
+    return d.with_name(d.name.removesuffix(".ckpt"))
+
+
 def checkpoint_files(directory: str | os.PathLike[str]) -> list[Path]:
     """The checkpoint files in ``directory``, oldest (lowest step) first."""
     d = Path(directory)

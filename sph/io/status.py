@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from sph.io.checkpoint import checkpoint_dir, checkpoint_files
+from sph.io.checkpoint import checkpoint_dir, checkpoint_files, output_of
 
 
 class StatusError(ValueError):
@@ -71,6 +71,12 @@ class RunStatus:
         return max(0.0, self.t_end - self.t) / rate
 
 
+def _case_and_end(config_text: str) -> tuple[str, float | None]:
+    """The case name and ``run.t_end`` (None if unset) of a run's resolved configuration."""
+    cfg = yaml.safe_load(config_text) or {}
+    return str(cfg.get("case", "?")), float(cfg.get("run", {}).get("t_end", 0.0)) or None
+
+
 def _from_output(path: Path) -> dict | None:
     import xarray as xr
 
@@ -87,10 +93,9 @@ def _from_output(path: Path) -> dict | None:
     if "config" not in attrs or "status" not in attrs:
         raise StatusError(f"{path}: not an sph-flood output (no 'config' and 'status' "
                           f"attributes)")
-    cfg = yaml.safe_load(attrs["config"]) or {}
-    return dict(case=str(attrs.get("case", cfg.get("case", "?"))), status=str(attrs["status"]),
-                t=t, t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
-                steps=int(attrs.get("steps", 0)),
+    case, t_end = _case_and_end(attrs["config"])
+    return dict(case=str(attrs.get("case", case)), status=str(attrs["status"]), t=t,
+                t_end=t_end, steps=int(attrs.get("steps", 0)),
                 wall_seconds=float(attrs.get("wall_clock_seconds", 0.0)),
                 updated=path.stat().st_mtime)
 
@@ -103,9 +108,8 @@ def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
     for path in reversed(checkpoint_files(directory)):
         try:
             with np.load(path, allow_pickle=False) as a:
-                cfg = yaml.safe_load(str(a["config"])) or {}
-                found.append(dict(case=str(cfg.get("case", "?")), t=float(a["t"]),
-                                  t_end=float(cfg.get("run", {}).get("t_end", 0.0)) or None,
+                case, t_end = _case_and_end(str(a["config"]))
+                found.append(dict(case=case, t=float(a["t"]), t_end=t_end,
                                   steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
                                   updated=path.stat().st_mtime, name=path.name))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, yaml.YAMLError):
@@ -148,7 +152,7 @@ def find_outputs(directory: str | Path) -> list[Path]:
     checkpoint folder (as its output's path), sorted."""
     d = Path(directory)
     found = {p for p in d.glob("*.nc") if p.is_file()}
-    found |= {p.with_name(p.name[:-len(".ckpt")]) for p in d.glob("*.nc.ckpt") if p.is_dir()}
+    found |= {output_of(p) for p in d.glob("*.nc.ckpt") if p.is_dir()}
     return sorted(found)
 
 
