@@ -92,7 +92,10 @@ class Particles:
 
     def take(self, keep: np.ndarray) -> Particles:
         """A new set holding the particles where ``keep`` is True (order kept)."""
-        return Particles.of_columns(self.f[:, keep], self.i[:, keep])
+        # compress writes the rows contiguous; a mask on the columns (f[:, keep]) gave a
+        # Fortran-ordered copy that of_columns then transposed, four times as long
+        return Particles.of_columns(np.compress(keep, self.f, axis=1),
+                                    np.compress(keep, self.i, axis=1))
 
     @classmethod
     def of_columns(cls, f: np.ndarray, i: np.ndarray) -> Particles:

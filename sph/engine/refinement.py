@@ -205,15 +205,22 @@ def _children(parts: Particles, sel: np.ndarray, dx: float, grad_rho
     return f, i
 
 
-def _index_of(pid: np.ndarray, wanted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Index of the particle of each id ``wanted`` (ids unique) and whether it exists."""
-    order = np.argsort(pid, kind="stable")
-    k = np.minimum(np.searchsorted(pid[order], wanted), len(pid) - 1)
-    found = pid[order][k] == wanted
-    return order[k], found
+class _IdIndex:
+    """The particles' ids sorted once (a stable argsort), for :meth:`find` to look up many
+    sets of ids: :func:`assign` looks up mothers and ancestors level by level, and an
+    argsort of every id for each lookup was a tenth of its time."""
+
+    def __init__(self, pid: np.ndarray):
+        self.order = np.argsort(pid, kind="stable")
+        self.sorted = pid[self.order]
+
+    def find(self, wanted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Index of the particle of each id ``wanted`` and whether it exists."""
+        k = np.minimum(np.searchsorted(self.sorted, wanted), len(self.sorted) - 1)
+        return self.order[k], self.sorted[k] == wanted
 
 
-def _anchor(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> None:
+def _anchor(parts: Particles, fluid: np.ndarray, own: np.ndarray, ids: _IdIndex) -> None:
     """Move every ghost that has active descendants to their centre of mass, so that a
     family's level-0 particle, whose place decides the family's level, stays with the
     particles that carry its mass: moved by the flow interpolated at its own place, it
@@ -226,21 +233,23 @@ def _anchor(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> None:
     acc[act, 2] = parts.m[act] * parts.z[act]
     for lev in range(int(own.max()) if parts.n else 0, 0, -1):
         kids = np.nonzero(fluid & (own == lev) & (acc[:, 0] > 0.0))[0]
-        mother, found = _index_of(parts.pid, parts.parent[kids])
+        mother, found = ids.find(parts.parent[kids])
         np.add.at(acc, mother[found], acc[kids[found]])
     moved = fluid & (parts.body == GHOST) & (acc[:, 0] > 0.0)
     parts.x[moved] = acc[moved, 1] / acc[moved, 0]
     parts.z[moved] = acc[moved, 2] / acc[moved, 0]
 
 
-def _roots(parts: Particles, fluid: np.ndarray, own: np.ndarray) -> np.ndarray:
-    """Index of the level-0 ancestor of every fluid particle (itself for the others)."""
+def _roots(parts: Particles, fluid: np.ndarray, own: np.ndarray, ids: _IdIndex
+           ) -> np.ndarray:
+    """Index of the level-0 ancestor of every fluid particle (itself for the others);
+    ``ids``: the particles' ids (:class:`_IdIndex`)."""
     root = np.arange(parts.n)
     for _ in range(int(own.max()) if parts.n else 0):
         up = np.nonzero(fluid & (parts.parent[root] >= 0))[0]
         if len(up) == 0:
             break
-        root[up], _ = _index_of(parts.pid, parts.parent[root[up]])
+        root[up], _ = ids.find(parts.parent[root[up]])
     return root
 
 
@@ -309,7 +318,8 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = Tr
     removed."""
     fluid = parts.kind == FLUID
     own = levels(parts.hs)
-    root = _roots(parts, fluid, own)
+    ids = _IdIndex(parts.pid)
+    root = _roots(parts, fluid, own, ids)
     # the family's active particles now: those of its coarsest level marked active (the
     # children just made are copies of their mother, marks included)
     marked = fluid & (parts.body != GHOST)
@@ -320,7 +330,7 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = Tr
     reach = levels_at(parts.x, parts.z, boxes, BUFFER * dx)
     for lev in range(1, int(own.max()) + 1):
         kids = np.nonzero(fluid & (own == lev))[0]
-        mother, found = _index_of(parts.pid, parts.parent[kids])
+        mother, found = ids.find(parts.parent[kids])
         gone[kids] = ~found | gone[mother] | (reach[mother] < lev)
         # ghost children spread from their mother: the whole brood goes, and the mother
         # gets a new one at the next refinement (spawn)
@@ -337,7 +347,8 @@ def assign(parts: Particles, boxes: np.ndarray, dx: float, hysteresis: bool = Tr
         fluid, own, before = fluid[keep], own[keep], before[keep]
         root = new_index[root[keep]]
         held = held[:, keep]
-    _anchor(parts, fluid, own)
+        ids = _IdIndex(parts.pid)
+    _anchor(parts, fluid, own, ids)
     after = _family_levels(parts, fluid, own, root, before, boxes, dx, hysteresis)
     active = fluid & (own == after[root])
     parts.body[fluid] = np.where(active[fluid], -1, GHOST)

@@ -23,7 +23,7 @@ from sph.engine.refinement import (
     SPREAD,
     STRAY,
     _cell_span,
-    _index_of,
+    _IdIndex,
     active_fluid,
     assign,
     ghost_fields,
@@ -657,7 +657,7 @@ def test_a_moving_wall_in_a_box_is_refined_whole():
     assert fixed.sum() > 0 and p.x[fixed].max() < 3.0 + BUFFER * 0.2 + 1e-9
     # the children sit at +-dx / 4 from their parent in the flap's frame
     kids = np.nonzero(flap & (lev == 1))[0]
-    mother, _ = _index_of(p.pid, p.parent[kids])
+    mother, _ = _IdIndex(p.pid).find(p.parent[kids])
     np.testing.assert_allclose(np.abs(p.bx[kids] - p.bx[mother]), 0.1, atol=1e-12)
     np.testing.assert_allclose(np.abs(p.bz[kids] - p.bz[mother]), 0.1, atol=1e-12)
 
