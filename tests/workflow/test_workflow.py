@@ -358,13 +358,74 @@ def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
     assert_same_series(read_dataset(work / target), read_dataset(ref))
 
 
+def _processes_of_session(sid: int, *words: str) -> list[int]:
+    """Pids of the processes of session ``sid`` whose command line holds every word."""
+    out = []
+    for d in Path("/proc").iterdir():
+        if not d.name.isdigit():
+            continue
+        try:
+            if os.getsid(int(d.name)) != sid:
+                continue
+            cmd = (d / "cmdline").read_bytes().split(b"\0")
+        except (OSError, ProcessLookupError):
+            continue
+        args = [a.decode(errors="replace") for a in cmd]
+        if all(any(w in a for a in args) for w in words):
+            out.append(int(d.name))
+    return out
+
+
+@pytest.mark.skipif(not Path("/proc/self/cmdline").exists(), reason="needs /proc")
+def test_a_run_stopped_by_sigterm_is_rerun_not_taken_for_done(tmp_path):
+    """Issue: a case whose run is stopped gracefully (SIGTERM to the run, as a cluster's
+    time limit or a kill sends it: the engine checkpoints and exits with 4) fails its job,
+    and the next call reruns the case from its checkpoint. Under the profile's former
+    ``keep-incomplete`` Snakemake kept the partial netCDF file and recorded it as finished:
+    the next call had "nothing to be done" and the sweep would have gathered the partial
+    series as the case's result."""
+    work = _workflow_copy(tmp_path)
+    sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
+    sweep["set"] = {"run.checkpoint_interval": 0.5}
+    (work / ".test" / "stop.yaml").write_text(yaml.safe_dump(sweep))
+    target = "results/test/cases/case1.nc"
+    args = [target, "--cores", "1", "--configfile", ".test/stop.yaml"]
+    env = dict(_env(tmp_path), NUMBA_NUM_THREADS="1")
+    wf = subprocess.Popen([sys.executable, "-m", "snakemake", *args], cwd=work, env=env,
+                          start_new_session=True, stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL)
+    ckpt = work / (target + ".ckpt")
+    try:
+        end = time.monotonic() + 600
+        while wf.poll() is None and not checkpoint_files(ckpt):
+            assert time.monotonic() < end, "no checkpoint written"
+            time.sleep(0.002)
+        runs = _processes_of_session(wf.pid, "run", "case1.yaml")
+        assert runs, "the case finished before it could be stopped"
+        for pid in runs:
+            os.kill(pid, signal.SIGTERM)
+        wf.wait(timeout=300)
+    finally:
+        if wf.poll() is None:
+            os.killpg(wf.pid, signal.SIGKILL)
+            wf.wait()
+    assert wf.returncode != 0  # the job failed: its case was not done
+    log = (work / "results/test/logs/simulate/case1.log").read_text()
+    assert "interrupted by SIGTERM" in log, log
+    assert checkpoint_files(ckpt)  # kept, to resume from
+    assert not (work / target).exists()  # the partial series is not a result
+    res = _snakemake(work, "-n", *args)
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    assert _job_counts(res.stdout).get("simulate_case") == 1, res.stdout[-3000:]
+
+
 def test_a_case_that_blows_up_keeps_what_it_wrote(tmp_path):
     """A run that blows up stops with the step, time and cause and writes its output up to
     that moment (exit status 3): that output is the case's result, marked with its status,
     so the job succeeds with a warning in its log and the sweep can be gathered
-    (sph.study.sweeps.gather keeps it NaN after its end); the default profile, which
-    Snakemake finds by itself, also keeps the output of a job that fails
-    (``keep-incomplete``)."""
+    (sph.study.sweeps.gather keeps it NaN after its end): the rule's shell turns the
+    engine's exit status 3 into success, under the default profile, which Snakemake finds
+    by itself."""
     work = _workflow_copy(tmp_path)
     sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
     # the hydrostatic density at the tank floor is above this at once

@@ -17,8 +17,14 @@
 # checkpoint (`sph run --start-from`), to the same numbers as from t = 0
 # (sph.study.sweeps.predamage_runs).
 
+# The shells wait for the run whatever signal comes: a job stopped as a whole (a cluster's
+# time limit, Ctrl-C: SIGTERM or SIGINT to every process of the job) stops the run, which
+# writes a checkpoint and its output and exits with 4, and only then the job; a shell that
+# died first let Snakemake clean the job up while the run was still writing its output,
+# and the next call took that partial series for the case's result. A trapped signal is
+# reset to the default in `sph run` itself, and in the subshell, hence the second trap.
 SPH_RUN = (
-    "( s=0; sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
+    "trap : TERM INT; ( trap : TERM INT; s=0; sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
     " {params.start} || s=$?; if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
     " echo 'checkpoint of other parameters: starting over'; s=0; sph run {input.case:q}"
     " -o {output.nc:q} --threads {threads} --no-progress --restart {params.start} || s=$?; fi;"
