@@ -27,6 +27,11 @@ class StatusError(ValueError):
     """A path that is not a run's output."""
 
 
+#: wall seconds of computing after which a run's average rate tells its time left (a run
+#: stopped during its first step, one checkpoint of 36 s, gave 2900 hours)
+AVERAGE_AFTER = 600.0
+
+
 @dataclass(frozen=True)
 class RunStatus:
     """Where one run stands.
@@ -62,9 +67,11 @@ class RunStatus:
 
     @property
     def hours_left(self) -> float | None:
-        """Wall hours to ``t_end`` at the recent rate (else the average one), for a run
-        that has not ended: a partial output that says ``running`` or a checkpoint alone."""
-        rate = self.recent_rate or self.rate
+        """Wall hours to ``t_end`` at the recent rate (else the average one, once the run
+        has computed for :data:`AVERAGE_AFTER` seconds: before that it is mostly the run's
+        start, building and compiling), for a run that has not ended: a partial output that
+        says ``running`` or a checkpoint alone."""
+        rate = self.recent_rate or (self.rate if self.wall_seconds >= AVERAGE_AFTER else None)
         going = self.status == "running" or self.status.startswith("started")
         if not going or not rate or self.t_end is None:
             return None

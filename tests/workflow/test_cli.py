@@ -306,7 +306,7 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     between its two checkpoints and the output's word on how it ended; resumed to the end,
     it reads t_end and "completed"."""
     from sph.io.checkpoint import checkpoint_dir, checkpoint_files
-    from sph.io.status import run_status
+    from sph.io.status import AVERAGE_AFTER, run_status
 
     path = case_file("still_water")
     out = tmp_path / "still.nc"
@@ -332,6 +332,12 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert st.hours_left is None  # the run has stopped
     going = dataclasses.replace(st, status="running")  # as a partial output of a live run
     assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
+    # with one checkpoint the average rate tells the time left only after AVERAGE_AFTER s
+    # of computing: before, it is mostly the run's start
+    one = dataclasses.replace(going, recent_rate=None)
+    assert one.hours_left is None and one.rate == st.rate
+    later = dataclasses.replace(one, wall_seconds=AVERAGE_AFTER)
+    assert later.hours_left == pytest.approx((0.05 - t_ckpt) / later.rate)
     rc, row = _status_row(capsys, out)
     rc_folder, row_folder = _status_row(capsys, checkpoint_dir(out))  # names its run
     assert rc_folder == 0 and row_folder["t (s)"] == row["t (s)"]
