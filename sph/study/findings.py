@@ -986,19 +986,42 @@ def findings_table(findings: Sequence[Finding]) -> list[dict]:
     return [f.as_dict() for f in findings]
 
 
+_VERDICT_COLOUR = {"holds": "#d9f2d9", "does not hold": "#f8d7d7",
+                   "not determinable": "#eeeeee"}
+
+
+def _summary(findings: Sequence[Finding]) -> str:
+    """How many findings hold, do not hold and are not determinable."""
+    counts = {v: sum(f.verdict == v for f in findings) for v in _VERDICT_COLOUR}
+    return ", ".join(f"{n} {v}" for v, n in counts.items())
+
+
+def findings_markdown(findings: Sequence[Finding], title: str, note: str = "") -> str:
+    """The findings table as Markdown, to paste into a report or a page of notes: a heading,
+    the note, the counts and one row per finding (id, the paper's finding, where the paper
+    states it, what the run measured, the verdict)."""
+
+    def cell(text: str) -> str:
+        return " ".join(str(text).split()).replace("|", "\\|")
+
+    rows = [f"| {' | '.join(cell(x) for x in (f.id, f.statement, f.paper, f.measured))} "
+            f"| {f.verdict} |" for f in findings]
+    return "\n".join([f"# {cell(title)}", "", cell(note), "", _summary(findings) + ".", "",
+                      "| id | finding of the paper | where | measured in this run | verdict |",
+                      "| --- | --- | --- | --- | --- |", *rows, ""])
+
+
 def findings_html(findings: Sequence[Finding], title: str, note: str = "") -> str:
     """A self-contained HTML page with the findings table."""
     import html
 
-    colour = {"holds": "#d9f2d9", "does not hold": "#f8d7d7", "not determinable": "#eeeeee"}
     rows = []
     for f in findings:
         rows.append(
             "<tr>" + "".join(f"<td>{html.escape(x)}</td>" for x in
                              (f.id, f.statement, f.paper, f.measured))
-            + f'<td style="background:{colour[f.verdict]}">{f.verdict}</td></tr>')
-    counts = {v: sum(f.verdict == v for f in findings) for v in colour}
-    summary = ", ".join(f"{n} {v}" for v, n in counts.items())
+            + f'<td style="background:{_VERDICT_COLOUR[f.verdict]}">{f.verdict}</td></tr>')
+    summary = _summary(findings)
     return (
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>"
         f"{html.escape(title)}</title><style>body{{font-family:sans-serif;font-size:14px}}"

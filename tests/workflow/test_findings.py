@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -309,11 +310,12 @@ def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     ds = _stopped(_sweep(_paper_like()), "case5", 8 * T)
     nc = tmp_path / "sweep.nc"
     ds.to_netcdf(nc)
-    csv, html = tmp_path / "findings.csv", tmp_path / "findings.html"
-    load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html))
+    csv, html, md = (tmp_path / f"findings.{ext}" for ext in ("csv", "html", "md"))
+    load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md))
     page = html.read_text()
-    assert ("Runs that stopped before their end (their findings after that are not "
-            "determinable): case5 at t/T = 8: failed: simulation stopped at step 123") in page
+    stopped = ("Runs that stopped before their end (their findings after that are not "
+               "determinable): case5 at t/T = 8: failed: simulation stopped at step 123")
+    assert stopped in page and stopped in md.read_text()
     rows = csv.read_text().splitlines()
     f6 = next(r for r in rows if r.startswith("F6,"))
     assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable")
@@ -421,6 +423,22 @@ def test_html_table_lists_every_finding():
     page = findings.findings_html(out, "demo", "note")
     assert page.count("<tr>") == len(out) + 1
     assert "17 holds" in page
+
+
+def test_markdown_table_lists_every_finding_as_the_html_page():
+    """One row per finding with the same cells as the HTML page, a '|' in a cell escaped
+    and a line break in it joined, so that every row has its five columns."""
+    out = findings.compute_findings(_sweep(_paper_like()), GROUPS, 7.0)
+    out[0] = dataclasses.replace(out[0], measured="a | b\nc")
+    text = findings.findings_markdown(out, "demo", "note")
+    lines = text.splitlines()
+    assert lines[:3] == ["# demo", "", "note"] and "17 holds" in text
+    rows = [ln for ln in lines if ln.startswith("| F")]
+    assert [r.split(" | ")[0][2:] for r in rows] == [f.id for f in out]
+    assert all(len(re.split(r"(?<!\\)\|", r)) == 7 for r in rows)  # 5 cells
+    assert "a \\| b c" in rows[0]
+    for f, r in zip(out[1:], rows[1:], strict=True):
+        assert r == f"| {f.id} | {f.statement} | {f.paper} | {f.measured} | {f.verdict} |"
 
 
 # Fig. 10: the reference opening in still water and at three wave amplitudes (A / d)

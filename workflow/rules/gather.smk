@@ -23,6 +23,7 @@ rule findings:
         nc="results/{sweep}/{sweep}.nc",
     output:
         csv="results/{sweep}/findings.csv",
+        md="results/{sweep}/findings.md",
         html=report(
             "results/{sweep}/findings.html",
             caption="../report/findings.rst",

@@ -1,6 +1,7 @@
-"""The paper's findings measured on a sweep dataset: a CSV table and an HTML page.
+"""The paper's findings measured on a sweep dataset: a CSV table, an HTML page and the
+same page in Markdown.
 
-Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``.
+Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``, ``.md``.
 """
 
 
@@ -13,6 +14,7 @@ from sph.study.findings import (
     departures,
     fast_runs,
     findings_html,
+    findings_markdown,
     findings_table,
     stopped_runs,
     zone_entries,
@@ -20,7 +22,7 @@ from sph.study.findings import (
 from sph.study.sweeps import one_wave
 
 
-def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
+def main(nc, groups, t2_periods, title, out_csv, out_html, out_md=None) -> None:
     ds = read_dataset(nc)
     found = compute_findings(ds, groups, t2_periods)
     rows = findings_table(found)
@@ -52,8 +54,12 @@ def main(nc, groups, t2_periods, title, out_csv, out_html) -> None:
     if drifted:
         note += (" Runs whose hull drifted into the absorbing zone (the findings that read "
                  "them after t2 end there): " + "; ".join(drifted) + ".")
+    heading = f"Findings of Cao et al. (2019) on: {title}"
     with open(out_html, "w") as fh:
-        fh.write(findings_html(found, f"Findings of Cao et al. (2019) on: {title}", note))
+        fh.write(findings_html(found, heading, note))
+    if out_md is not None:
+        with open(out_md, "w") as fh:
+            fh.write(findings_markdown(found, heading, note))
     for f in found:
         logging.getLogger("findings").info("%s %s: %s", f.id, f.verdict, f.measured)
     for line in differ:
@@ -71,4 +77,5 @@ if __name__ == "__main__":
     logging.basicConfig(filename=snakemake.log[0], level=logging.INFO,
                         format="%(levelname)s %(message)s")
     main(snakemake.input.nc, dict(snakemake.params.groups), float(snakemake.params.t2_periods),
-         snakemake.params.title, snakemake.output.csv, snakemake.output.html)
+         snakemake.params.title, snakemake.output.csv, snakemake.output.html,
+         snakemake.output.md)
