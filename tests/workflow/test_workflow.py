@@ -312,20 +312,16 @@ def test_changing_one_case_reruns_only_that_case(toy):
         assert rule not in counts
 
 
-@pytest.mark.slow  # 30 s; the engine's own kill-and-resume tests (test_checkpoint.py) stay
-def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
-    """Issue: a workflow killed during a case (SIGKILL to Snakemake and its job, as a
-    pre-empted node) and run again with ``--rerun-incomplete`` resumes the case from the
-    engine's checkpoint through the project's own rules; the case's log shows the resume
-    time and its dataset equals an uninterrupted run's, bit for bit (the checkpoint holds
-    the complete state, open damage opening included: ``tests/test_checkpoint.py``)."""
+def _workflow_until_checkpoint(tmp_path, settings: dict, target: str):
+    """A copy of the workflow whose toy sweep takes ``settings`` (case-file values),
+    started in a session of its own (its pid is the session's id) on ``target`` alone, one
+    core, and left running once the case has written a checkpoint. Returns the copy, the
+    process, its Snakemake arguments and the checkpoint folder."""
     work = _workflow_copy(tmp_path)
     sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
-    # checkpoints every 0.5 s of simulated time; the opening appears before the first
-    sweep["set"] = {"run.checkpoint_interval": 0.5, "geometry.damage.time_periods": 0.05}
-    (work / ".test" / "resume.yaml").write_text(yaml.safe_dump(sweep))
-    target = "results/test/cases/case3.nc"
-    args = [target, "--cores", "1", "--configfile", ".test/resume.yaml"]
+    sweep["set"] = settings
+    (work / ".test" / "stop.yaml").write_text(yaml.safe_dump(sweep))
+    args = [target, "--cores", "1", "--configfile", ".test/stop.yaml"]
     env = dict(_env(tmp_path), NUMBA_NUM_THREADS="1")
     wf = subprocess.Popen([sys.executable, "-m", "snakemake", *args], cwd=work, env=env,
                           start_new_session=True, stdout=subprocess.DEVNULL,
@@ -336,6 +332,26 @@ def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
         while wf.poll() is None and not checkpoint_files(ckpt):
             assert time.monotonic() < end, "no checkpoint written"
             time.sleep(0.002)
+    except BaseException:
+        os.killpg(wf.pid, signal.SIGKILL)
+        wf.wait()
+        raise
+    return work, wf, args, ckpt
+
+
+@pytest.mark.slow  # 30 s; the engine's own kill-and-resume tests (test_checkpoint.py) stay
+def test_killed_workflow_resumes_the_case_from_its_checkpoint(tmp_path):
+    """Issue: a workflow killed during a case (SIGKILL to Snakemake and its job, as a
+    pre-empted node) and run again with ``--rerun-incomplete`` resumes the case from the
+    engine's checkpoint through the project's own rules; the case's log shows the resume
+    time and its dataset equals an uninterrupted run's, bit for bit (the checkpoint holds
+    the complete state, open damage opening included: ``tests/test_checkpoint.py``)."""
+    # checkpoints every 0.5 s of simulated time; the opening appears before the first
+    target = "results/test/cases/case3.nc"
+    work, wf, args, ckpt = _workflow_until_checkpoint(
+        tmp_path, {"run.checkpoint_interval": 0.5, "geometry.damage.time_periods": 0.05},
+        target)
+    try:
         os.killpg(wf.pid, signal.SIGKILL)
         wf.wait(timeout=60)
     finally:
@@ -384,22 +400,10 @@ def test_a_run_stopped_by_sigterm_is_rerun_not_taken_for_done(tmp_path):
     ``keep-incomplete`` Snakemake kept the partial netCDF file and recorded it as finished:
     the next call had "nothing to be done" and the sweep would have gathered the partial
     series as the case's result."""
-    work = _workflow_copy(tmp_path)
-    sweep = yaml.safe_load((work / ".test" / "config.yaml").read_text())
-    sweep["set"] = {"run.checkpoint_interval": 0.5}
-    (work / ".test" / "stop.yaml").write_text(yaml.safe_dump(sweep))
     target = "results/test/cases/case1.nc"
-    args = [target, "--cores", "1", "--configfile", ".test/stop.yaml"]
-    env = dict(_env(tmp_path), NUMBA_NUM_THREADS="1")
-    wf = subprocess.Popen([sys.executable, "-m", "snakemake", *args], cwd=work, env=env,
-                          start_new_session=True, stdout=subprocess.DEVNULL,
-                          stderr=subprocess.DEVNULL)
-    ckpt = work / (target + ".ckpt")
+    work, wf, args, ckpt = _workflow_until_checkpoint(
+        tmp_path, {"run.checkpoint_interval": 0.5}, target)
     try:
-        end = time.monotonic() + 600
-        while wf.poll() is None and not checkpoint_files(ckpt):
-            assert time.monotonic() < end, "no checkpoint written"
-            time.sleep(0.002)
         runs = _processes_of_session(wf.pid, "run", "case1.yaml")
         assert runs, "the case finished before it could be stopped"
         for pid in runs:
