@@ -93,7 +93,7 @@ class Particles:
     def take(self, keep: np.ndarray) -> Particles:
         """A new set holding the particles where ``keep`` is True (order kept)."""
         # compress writes the rows contiguous; a mask on the columns (f[:, keep]) gave a
-        # Fortran-ordered copy that of_columns then transposed, four times as long
+        # Fortran-ordered copy that of_columns then transposed: several times as long
         return Particles.of_columns(np.compress(keep, self.f, axis=1),
                                     np.compress(keep, self.i, axis=1))
 
