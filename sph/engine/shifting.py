@@ -44,8 +44,8 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, w_r2
-from sph.engine.opening import in_sight
+from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, pair_scale, w_r2
+from sph.engine.opening import in_sight, near_opening
 from sph.engine.particles import FLUID, GHOST
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
@@ -84,13 +84,29 @@ def shifting_active(shift: np.ndarray) -> bool:
 
 
 @njit(inline="always", **JIT)
-def _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs, r2max, op, kin, kp,
-                inv_wdx):
-    """Particle ``j``'s terms of :func:`shift_vector`'s sums (zeros if it does not count)."""
-    ok, dx, dz, r2, sij = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op,
-                                   kin)
-    if j == i or not ok or (kind[j] == FLUID and body[j] == GHOST):
-        return 0.0, 0.0, 0.0
+def _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin, near):
+    """Whether particle ``j`` counts in :func:`shift_vector`'s sums, with the pair's ``dx,
+    dz, r2`` and smoothing length ratio: within the support and seen by the pair rule, not
+    ``i`` itself and not a ghost. ``near``: particle ``i`` is within the open opening's
+    reach (:func:`sph.engine.opening.near_opening`) and takes the whole pair rule
+    (:func:`sph.engine.opening.in_sight`); beyond it the rule is the compartment's alone
+    (no pair it begins crosses the opening)."""
+    if near:
+        ok, dx, dz, r2, sij = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                       op, kin)
+    else:
+        dx = xi - x[j]
+        dz = zi - z[j]
+        r2 = dx * dx + dz * dz
+        sij = pair_scale(hs, i, j)
+        ok = r2 < r2max * sij * sij and comp[j] == ci
+    ok = ok and j != i and not (kind[j] == FLUID and body[j] == GHOST)
+    return ok, dx, dz, r2, sij
+
+
+@njit(inline="always", **JIT)
+def _shift_terms(j, dx, dz, r2, sij, rho, m, kp, inv_wdx):
+    """Particle ``j``'s terms of :func:`shift_vector`'s sums, for a pair that counts."""
     vj = m[j] / rho[j]
     fw, w = fw_scaled(r2, kp, sij)
     q = w * inv_wdx
@@ -98,6 +114,28 @@ def _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs, r2max, op,
     vf = vj * fw
     a = vf * (1.0 + R_ANTI * q2 * q2)
     return a * dx, a * dz, -vf * r2
+
+
+@njit(inline="always", **JIT)
+def _list_shift_sums(i, k0, k1, inner, xi, zi, ci, x, z, rho, m, kind, body, comp, hs, r2max,
+                     op, kin, kp, inv_wdx, near):
+    """:func:`shift_vector`'s sums over the inner list ``inner[k0:k1]`` of particle ``i``.
+    A pair that does not count is skipped, not added as zeros: a loop whose pair function
+    returned zeros for it took about three times as long, to the same sums."""
+    gx = 0.0
+    gz = 0.0
+    divr = 0.0
+    for k in range(k0, k1):
+        j = inner[k]
+        ok, dx, dz, r2, sij = _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                          r2max, op, kin, near)
+        if not ok:
+            continue
+        ax, az, d = _shift_terms(j, dx, dz, r2, sij, rho, m, kp, inv_wdx)
+        gx += ax
+        gz += az
+        divr += d
+    return gx, gz, divr
 
 
 @njit(**JIT)
@@ -132,19 +170,25 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
     divr = 0.0
     if lists is not None:  # (start, inner, inner_end): the inner list of the particle
         start, inner, inner_end = lists
-        for k in range(start[i], inner_end[i]):
-            j = inner[k]
-            ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp, hs,
-                                       r2max, op, kin, kp, inv_wdx)
-            gx += ax
-            gz += az
-            divr += d
+        # a loop of its own for a particle within the open opening's reach and one for
+        # the others: with the choice made for every pair it took 2.4 times as long
+        if near_opening(xi, zi, op, 0.0):
+            gx, gz, divr = _list_shift_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x,
+                                            z, rho, m, kind, body, comp, hs, r2max, op, kin,
+                                            kp, inv_wdx, True)
+        else:
+            gx, gz, divr = _list_shift_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x,
+                                            z, rho, m, kind, body, comp, hs, r2max, op, kin,
+                                            kp, inv_wdx, False)
     else:  # the 3 x 3 cells (the reference loop)
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
             for j in range(cell_start[row - 1], cell_start[row + 2]):
-                ax, az, d = _shift_pair(i, j, xi, zi, ci, x, z, rho, m, kind, body, comp,
-                                           hs, r2max, op, kin, kp, inv_wdx)
+                ok, dx, dz, r2, sij = _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp,
+                                                  hs, r2max, op, kin, True)
+                if not ok:
+                    continue
+                ax, az, d = _shift_terms(j, dx, dz, r2, sij, rho, m, kp, inv_wdx)
                 gx += ax
                 gz += az
                 divr += d
