@@ -292,6 +292,21 @@ def in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin):
     return ok, dx, dz, r2, s
 
 
+@njit(inline="always", **JIT)
+def in_sight_near(near, i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin):
+    """:func:`in_sight` for a particle ``i`` within the open opening's reach (``near``:
+    :func:`near_opening` of ``(xi, zi)`` with no pad, taken once per particle); beyond it the
+    pair rule is the compartment's alone, the same answer without the opening's geometry
+    (no pair such a particle begins crosses the opening)."""
+    if near:
+        return in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin)
+    dx = xi - x[j]
+    dz = zi - z[j]
+    r2 = dx * dx + dz * dz
+    s = pair_scale(hs, i, j)
+    return r2 < r2max * s * s and comp[j] == ci, dx, dz, r2, s
+
+
 @njit(**JIT)
 def _normal(u, w, s):
     """Outward unit normal of the outline ``s`` at the nearest point to ``(u, w)``."""

@@ -44,8 +44,8 @@ import numpy as np
 from numba import prange
 
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
-from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, pair_scale, w_r2
-from sph.engine.opening import in_sight, near_opening
+from sph.engine.kernels import KP_H, KP_R2MAX, fw_scaled, w_r2
+from sph.engine.opening import in_sight_near, near_opening
 from sph.engine.particles import FLUID, GHOST
 
 #: anti-clustering weight R and exponent n of Sun et al. (2017)
@@ -90,16 +90,9 @@ def _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max, op, kin, ne
     ``i`` itself and not a ghost. ``near``: particle ``i`` is within the open opening's
     reach (:func:`sph.engine.opening.near_opening`) and takes the whole pair rule
     (:func:`sph.engine.opening.in_sight`); beyond it the rule is the compartment's alone
-    (no pair it begins crosses the opening)."""
-    if near:
-        ok, dx, dz, r2, sij = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
-                                       op, kin)
-    else:
-        dx = xi - x[j]
-        dz = zi - z[j]
-        r2 = dx * dx + dz * dz
-        sij = pair_scale(hs, i, j)
-        ok = r2 < r2max * sij * sij and comp[j] == ci
+    (no pair it begins crosses the opening: :func:`sph.engine.opening.in_sight_near`)."""
+    ok, dx, dz, r2, sij = in_sight_near(near, i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                        r2max, op, kin)
     ok = ok and j != i and not (kind[j] == FLUID and body[j] == GHOST)
     return ok, dx, dz, r2, sij
 
@@ -118,15 +111,13 @@ def _shift_terms(j, dx, dz, r2, sij, rho, m, kp, inv_wdx):
 
 @njit(inline="always", **JIT)
 def _list_shift_sums(i, k0, k1, inner, xi, zi, ci, x, z, rho, m, kind, body, comp, hs, r2max,
-                     op, kin, kp, inv_wdx, near):
-    """:func:`shift_vector`'s sums over the inner list ``inner[k0:k1]`` of particle ``i``.
+                     op, kin, kp, inv_wdx, near, gx, gz, divr):
+    """:func:`shift_vector`'s sums ``gx, gz, divr`` carried on over the candidates
+    ``inner[k0:k1]`` of particle ``i`` (``inner`` None: the particles ``k0 .. k1 - 1``).
     A pair that does not count is skipped, not added as zeros: a loop whose pair function
     returned zeros for it took about three times as long, to the same sums."""
-    gx = 0.0
-    gz = 0.0
-    divr = 0.0
     for k in range(k0, k1):
-        j = inner[k]
+        j = k if inner is None else inner[k]
         ok, dx, dz, r2, sij = _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
                                           r2max, op, kin, near)
         if not ok:
@@ -175,23 +166,17 @@ def shift_vector(i, shep, x, z, rho, m, kind, body, comp, hs, cell_of, cell_star
         if near_opening(xi, zi, op, 0.0):
             gx, gz, divr = _list_shift_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x,
                                             z, rho, m, kind, body, comp, hs, r2max, op, kin,
-                                            kp, inv_wdx, True)
+                                            kp, inv_wdx, True, gx, gz, divr)
         else:
             gx, gz, divr = _list_shift_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x,
                                             z, rho, m, kind, body, comp, hs, r2max, op, kin,
-                                            kp, inv_wdx, False)
+                                            kp, inv_wdx, False, gx, gz, divr)
     else:  # the 3 x 3 cells (the reference loop)
         c = cell_of[i]
         for row in (c - ncx, c, c + ncx):
-            for j in range(cell_start[row - 1], cell_start[row + 2]):
-                ok, dx, dz, r2, sij = _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp,
-                                                  hs, r2max, op, kin, True)
-                if not ok:
-                    continue
-                ax, az, d = _shift_terms(j, dx, dz, r2, sij, rho, m, kp, inv_wdx)
-                gx += ax
-                gz += az
-                divr += d
+            gx, gz, divr = _list_shift_sums(i, cell_start[row - 1], cell_start[row + 2], None,
+                                            xi, zi, ci, x, z, rho, m, kind, body, comp, hs,
+                                            r2max, op, kin, kp, inv_wdx, True, gx, gz, divr)
     coef = shift[SH_COEF] * hsi * hsi
     shx = -coef * gate * gx
     shz = -coef * gate * gz

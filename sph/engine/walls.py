@@ -29,7 +29,7 @@ from numba import prange
 from sph.engine.eos import tait_density
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, pair_scale, w_scaled
-from sph.engine.opening import OP_GROUP, in_sight, near_opening, opening_circle, wall_hidden
+from sph.engine.opening import OP_GROUP, in_sight_near, near_opening, opening_circle, wall_hidden
 from sph.engine.particles import FLUID, GHOST, WALL
 from sph.engine.surface import wall_pair_terms
 
@@ -253,15 +253,8 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, 
             j = inner[k]
             if kind[j] != WALL:
                 continue
-            if sees_opening:
-                ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
-                                             r2max, op, kin)
-            else:
-                dx = xi - x[j]
-                dz = zi - z[j]
-                r2 = dx * dx + dz * dz
-                s = pair_scale(hs, i, j)
-                ok = r2 < r2max * s * s and comp[j] == ci
+            ok, dx, dz, r2, s = in_sight_near(sees_opening, i, j, xi, zi, ci, x, z, kind,
+                                              body, comp, hs, r2max, op, kin)
             if not ok:
                 continue
             # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j
