@@ -220,6 +220,29 @@ def walled(kind, body, start, inner, inner_end, out):
                 break
 
 
+@njit(inline="always", **JIT)
+def _normal_sums(i, k0, k1, inner, xi, zi, ci, x, z, m, rho, kind, body, comp, hs, kp, r2max,
+                 op, kin, near):
+    """:func:`wall_normals`' sum over the wall particles of ``inner[k0:k1]`` that particle
+    ``i`` sees (``near``: within the open opening's reach,
+    :func:`sph.engine.opening.in_sight_near`)."""
+    sx = 0.0
+    sz = 0.0
+    for k in range(k0, k1):
+        j = inner[k]
+        if kind[j] != WALL:
+            continue
+        ok, dx, dz, r2, s = in_sight_near(near, i, j, xi, zi, ci, x, z, kind, body, comp, hs,
+                                          r2max, op, kin)
+        if not ok:
+            continue
+        # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j
+        a = f_scaled(r2, kp, s) * m[j] / rho[j]
+        sx += a * dx
+        sz += a * dz
+    return sx, sz
+
+
 @njit(**JIT_PARALLEL)
 def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, inner_end,
                  near, nx, nz):
@@ -247,20 +270,14 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, 
         zi = z[i]
         ci = comp[i]
         sees_opening = (xi - ocx) * (xi - ocx) + (zi - ocz) * (zi - ocz) <= or2
-        sx = 0.0
-        sz = 0.0
-        for k in range(start[i], inner_end[i]):
-            j = inner[k]
-            if kind[j] != WALL:
-                continue
-            ok, dx, dz, r2, s = in_sight_near(sees_opening, i, j, xi, zi, ci, x, z, kind,
-                                              body, comp, hs, r2max, op, kin)
-            if not ok:
-                continue
-            # grad_i W V = a (r_i - r_j) with a < 0: it points from i towards j
-            a = f_scaled(r2, kp, s) * m[j] / rho[j]
-            sx += a * dx
-            sz += a * dz
+        # a loop of its own within the opening's reach and beyond it (as the shift's
+        # pass: the choice made for every pair cost it 2.4 times)
+        if sees_opening:
+            sx, sz = _normal_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x, z, m, rho,
+                                  kind, body, comp, hs, kp, r2max, op, kin, True)
+        else:
+            sx, sz = _normal_sums(i, start[i], inner_end[i], inner, xi, zi, ci, x, z, m, rho,
+                                  kind, body, comp, hs, kp, r2max, op, kin, False)
         norm = math.sqrt(sx * sx + sz * sz)
         if norm > 0.0:
             nx[i] = sx / norm
