@@ -115,7 +115,7 @@ def _list_shift_sums(i, k0, k1, inner, xi, zi, ci, x, z, rho, m, kind, body, com
     """:func:`shift_vector`'s sums ``gx, gz, divr`` carried on over the candidates
     ``inner[k0:k1]`` of particle ``i`` (``inner`` None: the particles ``k0 .. k1 - 1``).
     A pair that does not count is skipped, not added as zeros: a loop whose pair function
-    returned zeros for it took about three times as long, to the same sums."""
+    returned zeros for it took about twice as long, to the same sums."""
     for k in range(k0, k1):
         j = k if inner is None else inner[k]
         ok, dx, dz, r2, sij = _shift_pair(i, j, xi, zi, ci, x, z, kind, body, comp, hs,
