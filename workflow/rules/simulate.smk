@@ -24,8 +24,9 @@
 # and the next call took that partial series for the case's result. A trapped signal is
 # reset to the default in `sph run` itself, and in the subshell, hence the second trap.
 SPH_RUN = (
-    "trap : TERM INT; ( trap : TERM INT; s=0; sph run {input.case:q} -o {output.nc:q} --threads {threads} --no-progress"
-    " {params.start} || s=$?; if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
+    "trap : TERM INT; ( trap : TERM INT; s=0; sph run {input.case:q} -o {output.nc:q}"
+    " --threads {threads} --no-progress {params.start} || s=$?;"
+    " if [ $s -eq 2 ] && [ -d {output.nc:q}.ckpt ]; then"
     " echo 'checkpoint of other parameters: starting over'; s=0; sph run {input.case:q}"
     " -o {output.nc:q} --threads {threads} --no-progress --restart {params.start} || s=$?; fi;"
     " if [ $s -eq 3 ]; then echo 'warning: the run blew up (above); its output up to then"

@@ -22,7 +22,7 @@ from sph.study.findings import (
 from sph.study.sweeps import one_wave
 
 
-def main(nc, groups, t2_periods, title, out_csv, out_html, out_md=None) -> None:
+def main(nc, groups, t2_periods, title, out_csv, out_html, out_md) -> None:
     ds = read_dataset(nc)
     found = compute_findings(ds, groups, t2_periods)
     rows = findings_table(found)
@@ -57,9 +57,8 @@ def main(nc, groups, t2_periods, title, out_csv, out_html, out_md=None) -> None:
     heading = f"Findings of Cao et al. (2019) on: {title}"
     with open(out_html, "w") as fh:
         fh.write(findings_html(found, heading, note))
-    if out_md is not None:
-        with open(out_md, "w") as fh:
-            fh.write(findings_markdown(found, heading, note))
+    with open(out_md, "w") as fh:
+        fh.write(findings_markdown(found, heading, note))
     for f in found:
         logging.getLogger("findings").info("%s %s: %s", f.id, f.verdict, f.measured)
     for line in differ:
