@@ -44,6 +44,7 @@ from sph.engine.refinement import (
     BUFFER,
     active_fluid,
     assign,
+    ghost_diffusion,
     ghost_fields,
     ghost_sources,
     in_reach,
@@ -181,6 +182,10 @@ class Stepper:
                            if num.density_filter in ("delta", "ddt") else 0.0)
         #: rho0 / c0^2: the hydrostatic form of the diffusive term (0: renormalised form)
         self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
+        #: variable resolution with no density filter: the diffusive term over the pairs
+        #: with ghosts alone, in the hydrostatic form (sph.engine.refinement.ghost_diffusion)
+        self._ghost_coef = num.delta * self.h * self.c0
+        self._rho_c2 = fl.rho0 / self.c0**2
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
         self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
         #: the pressure sum of fluid and wall particles (:mod:`sph.engine.surface`); the
@@ -391,6 +396,12 @@ class Stepper:
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
                  self._surf, self._gw, self._wnx, self._wnz)
+        if self.variable and self.cfg.numerics.density_filter == "none":
+            # the ghosts' density exchange (under the other filters the ghosts are in it)
+            ghost_diffusion(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, p.hs, self.kp,
+                            self.op, self.kin, self.nlist.start, self.nlist.inner,
+                            self.nlist.inner_end, self._gw, self._ghost_coef,
+                            -self._rho_c2 * self.gx, -self._rho_c2 * self.gz, p.drho)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity
