@@ -49,7 +49,8 @@ from sph.engine.particles import Particles
 #: engine stages called from the solver module (numba kernels)
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
           "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
-          "max_speed_accel", "wall_normals", "walled", "ghost_fields", "cavitation_floor",
+          "max_speed_accel", "wall_normals", "listed_with", "ghost_fields", "ghost_diffusion",
+          "cavitation_floor",
           "moved_or_outside")
 #: methods of the simulation that hold no timed stage: the refinement's spawning and
 #: merging, the ghosts' sources

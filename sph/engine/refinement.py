@@ -625,7 +625,7 @@ def _ghost_diffusion_sum(i, k0, k1, inner, xi, zi, ci, rhoi, x, z, rho, m, kind,
 
 @njit(**JIT_PARALLEL)
 def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inner, inner_end,
-                    gw, coef, hx, hz, drho):
+                    near, gw, coef, hx, hz, drho):
     r"""Add to ``drho`` of each active fluid particle the diffusive term of delta-SPH with
     the hydrostatic density difference subtracted (as ``numerics.density_filter: ddt``,
     :func:`sph.engine.fluid.interact`) over its pairs with ghosts alone,
@@ -649,11 +649,12 @@ def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inne
     among 31 ghosts held 1.09 rho0. With the term each relaxes towards the density its
     ghosts carry, on the acoustic time of a smoothing length over delta; a particle among
     fluid of its own level is left as it was, and a ghost fitted from a nearly empty
-    kernel (weight 0) exchanges nothing."""
+    kernel (weight 0) exchanges nothing. Only the particles marked in ``near`` (those with a
+    ghost in their inner list, :func:`sph.engine.walls.listed_with`) have pairs to sum."""
     r2max = kp[KP_R2MAX]
     ocx, ocz, or2 = opening_circle(op, 0.0)  # near_opening, taken once
     for i in prange(x.shape[0]):
-        if kind[i] != FLUID or body[i] == GHOST:
+        if not near[i]:  # no ghost in its list; nor a wall particle or a ghost
             continue
         xi = x[i]
         zi = z[i]

@@ -59,11 +59,11 @@ from sph.engine.shifting import apply_shift, shift_params, shifting_active
 from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
 from sph.engine.walls import (
     fixed_kinematics,
+    listed_with,
     place_walls,
     wall_forces,
     wall_normals,
     wall_pressure,
-    walled,
 )
 
 log = logging.getLogger(__name__)
@@ -184,6 +184,7 @@ class Stepper:
         self.ddt_rho = (fl.rho0 / self.c0**2 if num.density_filter == "ddt" else 0.0)
         #: variable resolution with no density filter: the diffusive term over the pairs
         #: with ghosts alone, in the hydrostatic form (sph.engine.refinement.ghost_diffusion)
+        self._ghost_exchange = self.variable and num.density_filter == "none"
         self._ghost_coef = num.delta * self.h * self.c0
         self._rho_c2 = fl.rho0 / self.c0**2
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
@@ -343,8 +344,10 @@ class Stepper:
         damp = self.cfg.numerics.wall_damping
         self._wnx = np.zeros(n) if damp else None
         self._wnz = np.zeros(n) if damp else None
-        # the fluid particles with a wall in their inner list (walled), at each refresh
+        # the fluid particles with a wall in their inner list (listed_with), at each refresh
         self._walled = np.zeros(n, dtype=np.bool_) if damp else None
+        # with the ghosts' density exchange, those with a ghost in it
+        self._ghosted = np.zeros(n, dtype=np.bool_) if self._ghost_exchange else None
         need = self.tension == FREE_SURFACE
         self._lam = np.ones(n) if need else None
         self._surf = np.zeros(n, dtype=np.bool_) if need else None
@@ -396,11 +399,11 @@ class Stepper:
                  self.op, self.kin, self.shift, p.sx, p.sz, self._pk, self.nlist.start,
                  self.nlist.inner, self.nlist.inner_end, self.variable, self.tension,
                  self._surf, self._gw, self._wnx, self._wnz)
-        if self.variable and self.cfg.numerics.density_filter == "none":
+        if self._ghosted is not None:
             # the ghosts' density exchange (under the other filters the ghosts are in it)
             ghost_diffusion(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, p.hs, self.kp,
                             self.op, self.kin, self.nlist.start, self.nlist.inner,
-                            self.nlist.inner_end, self._gw, self._ghost_coef,
+                            self.nlist.inner_end, self._ghosted, self._gw, self._ghost_coef,
                             -self._rho_c2 * self.gx, -self._rho_c2 * self.gz, p.drho)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
@@ -507,15 +510,16 @@ class Stepper:
         p.x_inner[:] = p.x
         p.z_inner[:] = p.z
         self.nlist.refresh(p.x, p.z, self.inner_radius, self._hs(p))
-        self._mark_walled()
+        self._mark_listed()
 
-    def _mark_walled(self) -> None:
+    def _mark_listed(self) -> None:
         """Under ``numerics.wall_damping``, the fluid particles whose inner list holds a
-        wall (:func:`walled`): the wall normals are summed for them alone."""
-        if self._walled is not None:
+        wall, and with the ghosts' density exchange those whose list holds a ghost
+        (:func:`listed_with`): the wall normals and the exchange are summed for them alone."""
+        if self._walled is not None or self._ghosted is not None:
             nl = self.nlist
-            walled(self.parts.kind, self.parts.body, nl.start, nl.inner, nl.inner_end,
-                   self._walled)
+            listed_with(self.parts.kind, self.parts.body, nl.start, nl.inner, nl.inner_end,
+                        self._walled, self._ghosted)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -739,6 +743,6 @@ class Stepper:
         self.nlist.build(parts.x_sort, parts.z_sort, parts.kind, self.grid, self.list_radius,
                          hs)
         self.nlist.refresh(parts.x_inner, parts.z_inner, self.inner_radius, hs)
-        self._mark_walled()
+        self._mark_listed()
         self._listed = parts
         self._mark_ghosts()

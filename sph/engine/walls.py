@@ -206,18 +206,31 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
 
 
 @njit(**JIT_PARALLEL)
-def walled(kind, body, start, inner, inner_end, out):
-    """Mark the active fluid particles with a wall particle in their inner list
-    (:meth:`sph.engine.neighbours.NeighbourList.refresh`): the only ones whose wall normal
-    (:func:`wall_normals`) can differ from zero until the inner lists are refreshed."""
+def listed_with(kind, body, start, inner, inner_end, walled, ghosted):
+    """Mark the active fluid particles whose inner list
+    (:meth:`sph.engine.neighbours.NeighbourList.refresh`) holds a wall particle (into
+    ``walled``) and those whose list holds a ghost (into ``ghosted``; either None: not
+    marked): the only ones whose wall normal (:func:`wall_normals`) or ghosts' density
+    exchange (:func:`sph.engine.refinement.ghost_diffusion`) can differ from zero until the
+    inner lists are refreshed. One pass over the lists for both."""
     for i in prange(kind.shape[0]):
-        out[i] = False
-        if kind[i] != FLUID or body[i] == GHOST:
-            continue
-        for k in range(start[i], inner_end[i]):
-            if kind[inner[k]] == WALL:
-                out[i] = True
-                break
+        w = walled is None  # True: no need to look
+        g = ghosted is None
+        if kind[i] == FLUID and body[i] != GHOST:
+            for k in range(start[i], inner_end[i]):
+                j = inner[k]
+                if kind[j] == WALL:
+                    w = True
+                elif body[j] == GHOST:
+                    g = True
+                if w and g:
+                    break
+        else:
+            w = g = False
+        if walled is not None:
+            walled[i] = w
+        if ghosted is not None:
+            ghosted[i] = g
 
 
 @njit(inline="always", **JIT)
@@ -253,7 +266,7 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, start, inner, 
     opening), with their volumes ``m / rho`` (:func:`wall_pressure` sets them); ``(0, 0)``
     with no wall in reach. ``numerics.wall_damping`` damps the approach along it
     (:func:`sph.engine.fluid.interact`). Call after :func:`wall_pressure`. Only the
-    particles marked in ``near`` (:func:`walled`) have walls to sum over.
+    particles marked in ``near`` (:func:`listed_with`) have walls to sum over.
 
     Beyond the open opening's reach (:func:`sph.engine.opening.near_opening`, and
     everywhere while it is closed) no wall is hidden, and the pair rule is the

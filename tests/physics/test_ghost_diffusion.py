@@ -21,7 +21,7 @@ from sph.engine.neighbours import CellGrid, NeighbourList
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, GHOST
 from sph.engine.refinement import ghost_diffusion
-from sph.engine.walls import fixed_kinematics
+from sph.engine.walls import fixed_kinematics, listed_with
 
 DX = 0.1
 H = 1.23 * DX
@@ -62,9 +62,12 @@ def _patch(body_of_others, rho_of, gw_of_others=1.0, hs=1.0):
 
 def _rate(x, z, rho, m, kind, body, comp, hs, gw, i, nl, gz=0.0):
     drho = np.zeros(x.size)
+    near = np.zeros(x.size, np.bool_)  # the active particles with a ghost in their list
+    listed_with(kind, body, nl.start, nl.inner, nl.inner_end, None, near)
+    assert near[i] == np.any(body == GHOST)
     ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kernel_params("gaussian", H),
-                    no_opening(), fixed_kinematics(1), nl.start, nl.inner, nl.inner_end, gw,
-                    DELTA * H * C0, 0.0, -RHO0 / C0**2 * gz, drho)
+                    no_opening(), fixed_kinematics(1), nl.start, nl.inner, nl.inner_end, near,
+                    gw, DELTA * H * C0, 0.0, -RHO0 / C0**2 * gz, drho)
     others = np.arange(x.size) != i
     assert np.all(drho[others & (body == GHOST)] == 0.0)  # a ghost's rate is not its own
     return drho[i]

@@ -20,7 +20,7 @@ from sph.engine.neighbours import CellGrid
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, WALL
 from sph.engine.surface import CLAMP
-from sph.engine.walls import fixed_kinematics, wall_normals, walled
+from sph.engine.walls import fixed_kinematics, listed_with, wall_normals
 
 DX = 0.1
 C0 = 30.0
@@ -49,7 +49,7 @@ def floor():
 def _normals(f):
     nx, nz = np.zeros(f["n"]), np.zeros(f["n"])
     near = np.zeros(f["n"], dtype=np.bool_)
-    walled(f["kind"], f["body"], *f["lists"], near)
+    listed_with(f["kind"], f["body"], *f["lists"], near, None)
     assert near[f["fluid"]] and near.sum() == 1  # the fluid particle, which has walls
     wall_normals(f["x"], f["z"], f["m"], f["rho"], f["kind"], f["body"], f["comp"], None,
                  f["kp"], no_opening(), fixed_kinematics(1), *f["lists"], near, nx, nz)

@@ -78,7 +78,7 @@ TINY = {
     ]),
     # a 3 m x 2 m hull in a 12 m tank; the opening appears at t1 = 0.157 s (step 141)
     "damaged_ship": ("damaged_ship", _SHIP),
-    # the same with the wall damping: the normals' particles (walled) are rebuilt on resume
+    # the same with the wall damping: the normals' particles (listed_with) are rebuilt on resume
     "damaged_ship_damped": ("damaged_ship", [*_SHIP, "numerics.wall_damping=true"]),
     # particles created in the inflow region and removed beyond the outflow region
     "current_tank": ("current_tank", [
