@@ -54,9 +54,13 @@ class Numerics:
     density_filter: str = spec("mls", choices=("mls", "delta", "ddt", "none"),
                                doc="MLS re-initialisation, delta-SPH diffusion with the "
                                    "renormalised density gradient (delta) or with the "
-                                   "hydrostatic density difference subtracted (ddt), or none")
+                                   "hydrostatic density difference subtracted (ddt), or none "
+                                   "(under variable resolution the ghosts still exchange "
+                                   "density with the active particles, delta)")
     mls_interval: int = spec(20, lo=1, hi=10000, doc="steps between MLS re-initialisations")
-    delta: float = spec(0.1, lo=0.0, hi=1.0, doc="delta-SPH coefficient (delta and ddt)")
+    delta: float = spec(0.1, lo=0.0, hi=1.0,
+                        doc="delta-SPH coefficient (delta and ddt; with none, the ghosts' "
+                            "density exchange of variable resolution)")
     alpha: float = spec(0.02, lo=0.0, hi=1.0, doc="artificial viscosity coefficient")
     c_factor: float = spec(10.0, lo=3.0, hi=200.0,
                            doc="speed of sound c0 = c_factor * sqrt(g * depth)")
@@ -125,9 +129,11 @@ class Run:
     max_steps: int = spec(0, lo=0, hi=10**12, doc="stop after this many steps; 0 = no limit")
     check_interval: int = spec(10, lo=1, hi=100000, doc="steps between blow-up checks")
     density_min: float = spec(0.5, lo=0.0, lo_open=True, hi=1.0, hi_open=True,
-                              doc="blow-up if a fluid density falls below this times rho0")
+                              doc="blow-up if an active fluid density falls below this times "
+                                  "rho0 (ghosts of variable resolution are fitted, not "
+                                  "checked)")
     density_max: float = spec(1.5, lo=1.0, lo_open=True, hi=10.0,
-                              doc="blow-up if a fluid density exceeds this times rho0")
+                              doc="blow-up if an active fluid density exceeds this times rho0")
     max_lost_fraction: float = spec(0.001, lo=0.0, hi=0.1,
                                     doc="fraction of the fluid particles that may leave the "
                                         "domain (removed and counted, with a warning) before "

@@ -583,7 +583,8 @@ class Stepper:
 
     # ------------------------------------------------------------------ checks
     def check(self) -> None:
-        """Stop with a :class:`SimulationError` on NaN/inf or a density out of band."""
+        """Stop with a :class:`SimulationError` on NaN/inf (any fluid particle) or the density
+        of an active fluid particle (not a ghost) out of band."""
         p, run, rho0 = self.parts, self.cfg.run, self.cfg.fluid.rho0
         f = p.kind == FLUID
         for name in ("x", "z", "vx", "vz", "rho", "ax", "az"):
@@ -592,7 +593,8 @@ class Stepper:
                 bad = int(np.sum(~np.isfinite(arr)))
                 raise SimulationError(self.step, self.t, f"{bad} fluid particle(s) have a "
                                       f"non-finite {name}")
-        rho = p.rho[f]
+        # the band is the mass-carrying fluid's: a ghost's density is fitted from it
+        rho = p.rho[f & (p.body != GHOST)]
         lo, hi = float(rho.min()), float(rho.max())
         if lo < run.density_min * rho0 or hi > run.density_max * rho0:
             raise SimulationError(self.step, self.t, f"fluid density {lo:.5g}..{hi:.5g} "

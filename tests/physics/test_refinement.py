@@ -37,7 +37,7 @@ from sph.engine.refinement import (
 )
 from sph.engine.shifting import shift_params
 from sph.engine.surface import CLAMP
-from sph.engine.walls import fixed_kinematics
+from sph.engine.walls import fixed_kinematics, listed_with
 from sph.schema import ConfigError
 
 DX = 0.1
@@ -687,6 +687,12 @@ def test_restart_with_refinement_continues_bit_for_bit(density_filter):
         first.advance()
     second = _still(0.1, box, density_filter)
     second.set_state(first.get_state())
+    if density_filter == "none":  # the restored lists' marks, made again
+        fresh = np.zeros(second.parts.n, np.bool_)
+        nl = second.nlist
+        listed_with(second.parts.kind, second.parts.body, nl.start, nl.inner, nl.inner_end,
+                    None, fresh)
+        assert fresh.any() and np.array_equal(second._ghosted, fresh)
     for _ in range(200):
         second.advance()
     assert whole.n_spawned + whole.n_removed > 0  # the level boundary moved particles across
