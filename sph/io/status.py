@@ -42,7 +42,9 @@ class RunStatus:
     another run's checkpoint, that run's time to the checkpoint included), ``updated`` the
     modification time of the newer file (seconds since the epoch), ``recent_rate`` the
     simulated seconds per wall hour between the two newest checkpoints (a run keeps two;
-    None with fewer)."""
+    None with fewer), ``max_speed`` (m/s) and ``max_density`` (kg/m3) the largest of the
+    run's samples so far (``max_velocity`` and ``density_max`` of its output; None where
+    they are not recorded): a run leaving the physics shows there first."""
 
     output: Path
     case: str
@@ -54,6 +56,8 @@ class RunStatus:
     updated: float | None
     source: str
     recent_rate: float | None = None
+    max_speed: float | None = None
+    max_density: float | None = None
 
     @property
     def fraction(self) -> float | None:
@@ -78,6 +82,18 @@ class RunStatus:
         return max(0.0, self.t_end - self.t) / rate
 
 
+def _largest(values) -> float | None:
+    """The largest finite sample, None for none."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.max()) if v.size else None
+
+
+#: the samples :func:`_largest` reads, by field of :class:`RunStatus`: the output's
+#: variable (a checkpoint holds it as ``record.series.<name>``)
+HEALTH = {"max_speed": "max_velocity", "max_density": "density_max"}
+
+
 def _case_and_end(config_text: str) -> tuple[str, float | None]:
     """The case name and ``run.t_end`` (None if unset) of a run's resolved configuration."""
     cfg = yaml.safe_load(config_text) or {}
@@ -95,6 +111,8 @@ def _from_output(path: Path) -> dict | None:
         with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
             attrs = dict(ds.attrs)
             t = float(ds["time"].values[-1]) if "time" in ds and ds["time"].size else 0.0
+            health = {k: _largest(ds[v].values) if v in ds else None
+                      for k, v in HEALTH.items()}
     except (OSError, ValueError) as exc:
         raise StatusError(f"{path}: not a netCDF file ({str(exc).splitlines()[0]})") from None
     if "config" not in attrs or "status" not in attrs:
@@ -104,7 +122,7 @@ def _from_output(path: Path) -> dict | None:
     return dict(case=str(attrs.get("case", case)), status=str(attrs["status"]), t=t,
                 t_end=t_end, steps=int(attrs.get("steps", 0)),
                 wall_seconds=float(attrs.get("wall_clock_seconds", 0.0)),
-                updated=path.stat().st_mtime)
+                updated=path.stat().st_mtime, **health)
 
 
 def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
@@ -116,9 +134,12 @@ def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
         try:
             with np.load(path, allow_pickle=False) as a:
                 case, t_end = _case_and_end(str(a["config"]))
+                health = {k: _largest(a[f"record.series.{v}"])
+                          if f"record.series.{v}" in a.files else None
+                          for k, v in HEALTH.items()}
                 found.append(dict(case=case, t=float(a["t"]), t_end=t_end,
                                   steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
-                                  updated=path.stat().st_mtime, name=path.name))
+                                  updated=path.stat().st_mtime, name=path.name, **health))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, yaml.YAMLError):
             continue
         if len(found) == most:
@@ -151,7 +172,8 @@ def run_status(output: str | Path) -> RunStatus:
     source = f"checkpoint {ckpt['name']}" if newer is ckpt else "output"
     updated = max(d["updated"] for d in (out, ckpt) if d is not None)
     return RunStatus(output, newer["case"], status, newer["t"], newer["t_end"],
-                     newer["steps"], newer["wall_seconds"], updated, source, recent)
+                     newer["steps"], newer["wall_seconds"], updated, source, recent,
+                     newer["max_speed"], newer["max_density"])
 
 
 def find_outputs(directory: str | Path) -> list[Path]:
@@ -177,7 +199,8 @@ def format_table(rows: list[RunStatus], now: float | None = None) -> str:
     """A plain-text table, one line per run."""
     now = time.time() if now is None else now
     head = ("output", "case", "t (s)", "t_end (s)", "done", "steps", "wall (h)",
-            "sim s / wall h", "recent", "left (h)", "updated", "status")
+            "sim s / wall h", "recent", "left (h)", "max speed (m/s)", "max density (kg/m3)",
+            "updated", "status")
     lines = [head]
     for r in rows:
         lines.append((
@@ -188,6 +211,8 @@ def format_table(rows: list[RunStatus], now: float | None = None) -> str:
             "-" if r.rate is None else f"{r.rate:.3g}",
             "-" if r.recent_rate is None else f"{r.recent_rate:.3g}",
             "-" if r.hours_left is None else f"{r.hours_left:.1f}",
+            "-" if r.max_speed is None else f"{r.max_speed:.3g}",
+            "-" if r.max_density is None else f"{r.max_density:.5g}",
             "-" if r.updated is None else _age(max(0.0, now - r.updated)),
             r.status + (f" ({r.source})" if r.source.startswith("checkpoint") else ""),
         ))

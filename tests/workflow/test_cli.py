@@ -303,8 +303,8 @@ def _status_row(capsys, out):
 def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     """A run stopped at run.max_steps: the status reads the simulated time, step and wall
     time of its newest checkpoint, which is ahead of the output's last sample, the rate
-    between its two checkpoints and the output's word on how it ended; resumed to the end,
-    it reads t_end and "completed"."""
+    between its two checkpoints, the largest speed and density of its samples and the
+    output's word on how it ended; resumed to the end, it reads t_end and "completed"."""
     from sph.io.checkpoint import checkpoint_dir, checkpoint_files
     from sph.io.status import AVERAGE_AFTER, run_status
 
@@ -319,6 +319,8 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
         t_old, wall_old = float(a["t"]), float(a["wall_seconds"])
     with np.load(ckpt) as a:
         t_ckpt, wall = float(a["t"]), float(a["wall_seconds"])
+        speeds = a["record.series.max_velocity"]
+        densities = a["record.series.density_max"]
     with xr.open_dataset(out) as ds:
         t_out, steps = float(ds["time"].values[-1]), int(ds.attrs["steps"])
     assert steps == 23 and t_out < t_ckpt < 0.05
@@ -330,6 +332,9 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert 0.02 <= t_old < t_ckpt and wall_old < wall
     assert st.recent_rate == pytest.approx(3600 * (t_ckpt - t_old) / (wall - wall_old), rel=1e-12)
     assert st.hours_left is None  # the run has stopped
+    # the largest speed and density of the samples so far, from the newer file
+    assert len(speeds) > 1 and st.max_speed == speeds.max() > 0.0
+    assert st.max_density == densities.max() > 990.0
     going = dataclasses.replace(st, status="running")  # as a partial output of a live run
     assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
     # with one checkpoint the average rate tells the time left only after AVERAGE_AFTER s
@@ -345,11 +350,15 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert rc == 0 and row["case"] == "still_water" and row["steps"] == "23"
     assert row["t (s)"] == f"{t_ckpt:.2f}" and row["done"] == f"{100 * t_ckpt / 0.05:.1f} %"
     assert row["status"].startswith("stopped at run.max_steps") and ckpt.name in row["status"]
+    assert row["max speed (m/s)"] == f"{speeds.max():.3g}"
+    assert row["max density (kg/m3)"] == f"{densities.max():.5g}"
 
     assert main(base) == 0  # resumes from the checkpoint to t_end
     capsys.readouterr()
     st = run_status(out)
     assert st.status == "completed" and st.t == 0.05 and st.steps > 23 and st.hours_left is None
+    with xr.open_dataset(out) as ds:
+        assert st.max_speed == float(ds["max_velocity"].max()) >= speeds.max()
     rc, row = _status_row(capsys, out)
     assert rc == 0 and row["done"] == "100.0 %" and row["status"] == "completed"
 
