@@ -649,10 +649,10 @@ def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inne
     force, so an active particle whose kernel holds ghosts more than fluid of its own level
     cannot relax a compression by pushing its neighbours apart: with no diffusive term its
     density stays wherever an impact left it. In the refined Table I case 2 such particles
-    under the hull carried 1.06-1.31 rho0 (up to 2.4e7 Pa) and were thrown at 40-115 m/s,
+    under the hull carried 1.06-1.31 rho0 (up to 2.4e7 Pa) and were thrown at 40-115 m/s
     (the ship's roll-over there is not their doing: with the term it heels as far); in
-    case 7 particles with no active neighbour of their level
-    among 31 ghosts held 1.09 rho0. With the term each relaxes towards the density its
+    case 7 particles with no active neighbour of their level among 31 ghosts held 1.09
+    rho0. With the term each relaxes towards the density its
     ghosts carry, on the acoustic time of a smoothing length over delta; a particle among
     fluid of its own level is left as it was, and a ghost fitted from a nearly empty
     kernel (weight 0) exchanges nothing. Only the particles marked in ``near`` (those with a

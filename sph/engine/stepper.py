@@ -186,7 +186,8 @@ class Stepper:
         #: with ghosts alone, in the hydrostatic form (sph.engine.refinement.ghost_diffusion)
         self._ghost_exchange = self.variable and num.density_filter == "none"
         self._ghost_coef = num.delta * self.h * self.c0
-        self._rho_c2 = fl.rho0 / self.c0**2
+        #: its hydrostatic density difference of a pair, ``hx dx + hz dz``
+        self._ghost_h = (-fl.rho0 / self.c0**2 * self.gx, -fl.rho0 / self.c0**2 * self.gz)
         #: particle shifting ``[coef, W(dx), cap]`` (:mod:`sph.engine.shifting`; coef 0: off)
         self.shift = shift_params(num.shifting, num.cfl, num.c_factor, self.kp, num.dx)
         #: the pressure sum of fluid and wall particles (:mod:`sph.engine.surface`); the
@@ -404,7 +405,7 @@ class Stepper:
             ghost_diffusion(p.x, p.z, p.rho, p.m, p.kind, p.body, p.comp, p.hs, self.kp,
                             self.op, self.kin, self.nlist.start, self.nlist.inner,
                             self.nlist.inner_end, self._ghosted, self._gw, self._ghost_coef,
-                            -self._rho_c2 * self.gx, -self._rho_c2 * self.gz, p.drho)
+                            *self._ghost_h, p.drho)
         if self.open_boundary is not None:
             self.open_boundary.freeze(p)
         if self.variable:  # a ghost moves with its interpolated velocity
