@@ -230,6 +230,15 @@ def check(cfg: CaseConfig) -> None:
                     "geometry.cargo_density = %g kg/m3): it will list or capsize after the "
                     "damage (docs/ship.md)", gm_d_fluid, m.gm_fluid, m.free_surface,
                     g.fill, g.cargo_density)
+    if g.refine_hull > 0:
+        reach = scales(cfg).support / 2 ** (g.refine_hull - 1)
+        if g.refine_margin < reach:
+            log.warning("geometry.refine_margin = %g m is less than the kernel support of "
+                        "the next coarser level (%.3g m): coarser fluid beside the finest "
+                        "box reaches the hull's coarser layers and adds its push to the fine "
+                        "fluid's, so the hull's forces count part of its pressure twice "
+                        "(docs/model.md, 'Variable resolution'); allowed from %.3g m",
+                        g.refine_margin, reach, reach)
     check_absorber_fits(g.absorber, g.tank_length)
     check_probes_inside(cfg, 0.0, g.tank_length, 0.0, g.tank_height)
     wm = g.wavemaker

@@ -676,16 +676,6 @@ def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inne
         drho[i] += coef * d
 
 
-def wall_regions(x, z, kind, body, hs, boxes) -> np.ndarray:
-    """Mask of the wall particles of moving groups (``body > 0``) that lie in their own
-    level's region: those whose forces count for their body."""
-    moving = np.nonzero((kind != FLUID) & (body > 0))[0]
-    out = np.zeros(x.shape[0], dtype=bool)
-    region = levels_at(x[moving], z[moving], boxes, 0.0)
-    out[moving] = region == levels(hs[moving])
-    return out
-
-
 def levels(hs: np.ndarray) -> np.ndarray:
     """Refinement level of each particle from its smoothing length ratio ``hs``."""
     return np.rint(-np.log2(hs)).astype(np.int32)

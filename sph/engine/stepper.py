@@ -52,7 +52,6 @@ from sph.engine.refinement import (
     levels_at,
     pack_boxes,
     spawn,
-    wall_regions,
 )
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
@@ -240,18 +239,17 @@ class Stepper:
     def b(self) -> float:
         return self.scales.b
 
-    def _wall_reach(self, forces: bool = False):
+    def _wall_reach(self):
         """The wall particles the wall loops do, None (all) at uniform resolution. Under
-        refinement (:meth:`_mark_ghosts`): for the pressure, those within reach of active
-        fluid (:func:`sph.engine.refinement.in_reach`); for the forces on bodies, of
-        those the ones in their own level's region
-        (:func:`sph.engine.refinement.wall_regions`): a moving body carries wall layers of
-        every level, and a coarse wall particle inside a finer box would add, from the
-        coarse fluid across the box's edge, a push that the fine fluid already gives the
-        fine wall particles there."""
-        if not self.variable:
-            return None
-        return self._force_walls if forces else self._reach
+        refinement (:meth:`_mark_ghosts`) those within reach of active fluid
+        (:func:`sph.engine.refinement.in_reach`), for the pressure and for the forces on
+        bodies alike: a body takes the reaction of every push its wall particles give the
+        active fluid, whatever level's region they lie in. A family active at a coarser
+        level inside a finer box (:func:`sph.engine.refinement.assign`) pushes on the
+        hull's coarse layers, and its fine children, ghosts, push on nothing: left out,
+        its share of the hull's pressure was lost (the refined Table I ships sank and
+        rolled over, docs/validation/refinement.md)."""
+        return self._reach if self.variable else None
 
     def _hs(self, parts):
         """The smoothing length ratios the wall and list loops take: None at uniform
@@ -417,7 +415,7 @@ class Stepper:
                         self.kin, len(self.kin), self._fx, self._fz, self._mom, self._pf,
                         self.force_scale, self.op, self.nlist.start, self.nlist.inner,
                         self.nlist.inner_end, self.tension, self._surf,
-                        self._wall_reach(forces=True))
+                        self._wall_reach())
             for body in self.bodies:
                 body.collect_forces(self._fx, self._fz, self._mom)
 
@@ -490,9 +488,8 @@ class Stepper:
         return list(zip(theirs, own, strict=True))
 
     def _mark_ghosts(self) -> None:
-        """The ghosts and walls within reach of active particles (:func:`in_reach`), the
-        particles each ghost is fitted from (:func:`ghost_sources`) and the wall particles
-        whose forces count for their body (:meth:`_wall_reach`), at the positions the
+        """The ghosts and walls within reach of active particles (:func:`in_reach`) and the
+        particles each ghost is fitted from (:func:`ghost_sources`), at the positions the
         lists were built at."""
         if not self.variable:
             return
@@ -501,10 +498,6 @@ class Stepper:
         in_reach(self.nlist.start, self.nlist.index, p.kind, p.body, self._reach)
         self._sources = ghost_sources(p.x_sort, p.z_sort, p.kind, p.body, p.hs, self.grid,
                                       self.list_radius)
-        # the wall particles whose forces count for their body (_wall_reach), at the
-        # positions the lists were built at, as every change of refinement
-        self._force_walls = self._reach & wall_regions(p.x_sort, p.z_sort, p.kind, p.body,
-                                                       p.hs, self.boxes)
 
     def _refresh_inner(self) -> None:
         p = self.parts

@@ -157,9 +157,9 @@ def wall_forces(x, z, rho, p, m, kind, body, comp, hs, kp, kin, n_body, fx, fz, 
     :func:`wall_pressure`. The pressure sum of a pair follows ``numerics.wall_tension`` as
     in the momentum equation (``tension``, ``surf``: :func:`sph.engine.fluid.interact`), so
     that the force on the body is the reaction of the force on the fluid. ``reach``: under
-    variable resolution, the wall particles whose forces count for their body (within
-    reach of active fluid and in their own level's region); the others add nothing. None:
-    all."""
+    variable resolution, the wall particles within reach of active fluid of their level
+    (:func:`sph.engine.refinement.in_reach`), whatever region they lie in; the others,
+    with no active fluid in their lists, are skipped. None: all."""
     n = x.shape[0]
     r2max = kp[KP_R2MAX]
     support = math.sqrt(r2max)

@@ -5,6 +5,7 @@ everywhere is the case at half the spacing; a still tank with a level boundary s
 the uniform one; bad boxes are refused before any compute.
 """
 
+import logging
 import math
 
 import numpy as np
@@ -33,11 +34,10 @@ from sph.engine.refinement import (
     levels,
     pack_boxes,
     spawn,
-    wall_regions,
 )
 from sph.engine.shifting import shift_params
 from sph.engine.surface import CLAMP
-from sph.engine.walls import fixed_kinematics, listed_with
+from sph.engine.walls import fixed_kinematics, listed_with, wall_forces
 from sph.schema import ConfigError
 
 DX = 0.1
@@ -701,16 +701,18 @@ def test_restart_with_refinement_continues_bit_for_bit(density_filter):
     np.testing.assert_array_equal(second.parts.i, whole.parts.i)
 
 
+#: the damaged ship in a 70 m tank 15 m deep, refined at level 1 around its hull
+SHIP_SMALL = ["numerics.dx=0.8", "geometry.depth=15", "geometry.tank_length=70",
+              "geometry.ship_x=30", "geometry.tank_height=30", "geometry.absorber.start=50",
+              "geometry.absorber.length=20", "geometry.refine_hull=1", "numerics.threads=2"]
+
+
 def test_the_ship_refined_around_its_hull():
     """``geometry.refine_hull`` puts each hull with its cabins and opening in a box of that
     level: the hull's wall groups get their fine layers whole, the fluid in the cabins and
     around the hull is active at the fine level, the flap far away stays coarse, and the
     active mass is kept over the first steps."""
-    over = ["numerics.dx=0.8", "geometry.depth=15", "geometry.tank_length=70",
-            "geometry.ship_x=30", "geometry.tank_height=30", "geometry.absorber.start=50",
-            "geometry.absorber.length=20", "geometry.fill=0.5", "geometry.refine_hull=1",
-            "numerics.threads=2"]
-    sim = Simulation(builtin("damaged_ship", over))
+    sim = Simulation(builtin("damaged_ship", SHIP_SMALL + ["geometry.fill=0.5"]))
     sim.evaluate()
     p = sim.parts
     lev = levels(p.hs)
@@ -719,12 +721,9 @@ def test_the_ship_refined_around_its_hull():
     pitch = sim.setup.attrs["segment_pitch"]
     hulls = [b for b in groups if abs(np.median(p.x[p.body == b]) % pitch - 30.0) < 10.0]
     assert refined == hulls and len(hulls) == 2  # both hull segments, not the flaps
-    own = wall_regions(p.x, p.z, p.kind, p.body, p.hs, sim.boxes)
     for b in refined:
         wall = (p.kind != FLUID) & (p.body == b)
         assert (wall & (lev == 1)).sum() == 4 * (wall & (lev == 0)).sum()
-        # inside its box the hull's force is its fine layers' alone
-        assert np.array_equal(own[wall], lev[wall] == 1)
     a = active_fluid(p)
     cabins = a & (p.comp % 2 == 1)  # each segment's sea is 2 s, its cabin 2 s + 1
     assert cabins.sum() > 0 and np.all(lev[cabins] == 1)
@@ -737,6 +736,67 @@ def test_the_ship_refined_around_its_hull():
     a = active_fluid(sim.parts)
     assert math.fsum(sim.parts.m[a]) == pytest.approx(mass, rel=1e-13)
     assert np.all(np.isfinite(sim.parts.ax[a]))
+
+
+def test_a_family_turned_coarse_beside_the_hull_keeps_its_push_on_the_hull():
+    """Action and reaction across levels: a family active at the coarse level inside the
+    hull's box (one that strayed, :func:`assign`) pushes on the hull's coarse layers, and
+    its fine children, ghosts, push on nothing. The hull must take that push: with the
+    water at rest, turning the 22 families under the intact hull's keel coarse leaves the
+    hull's vertical force within 2 % (0.5 % measured: the coarse kernel spreads the same
+    hydrostatic pressure over the keel; leaving the coarse layers' reaction out lost 58 %
+    of it), and the force is that of every wall particle of the hull."""
+    sim = Simulation(builtin("damaged_ship", SHIP_SMALL + [
+        "geometry.fill=0", "geometry.wavemaker.amplitude=null",
+        "geometry.wavemaker.theta0=0"]))
+    sim.evaluate()
+    sim.evaluate()  # as the one after the change: the lists built, the ghosts fitted
+    body = sim.bodies[0]
+    hull = [g for g, _, _ in body.segments]
+    before = body.segment_force.copy()
+    p = sim.parts
+    lev = levels(p.hs)
+    g = hull[0]
+    xc = sim.kin[g][0]
+    keel = sim.cfg.geometry.depth - sim.cfg.geometry.hull.draught
+    under = (active_fluid(p) & (lev == 1) & (p.comp == 0) & (np.abs(p.x - xc) < 4.0)
+             & (p.z < keel) & (p.z > keel - 1.2))
+    families = np.unique(p.parent[under])
+    assert len(families) > 15
+    for pid in families:  # as assign turns a family coarse, the water at rest
+        p.body[p.pid == pid] = -1
+        p.body[p.parent == pid] = GHOST
+    sim._mark_ghosts()
+    sim.evaluate()
+    after = body.segment_force.copy()
+    assert after[0, 1] == pytest.approx(before[0, 1], rel=0.02)
+    assert after[1, 1] == pytest.approx(before[1, 1], rel=1e-3)  # the other segment
+    fx, fz, mom = (np.zeros(len(sim.kin)) for _ in range(3))
+    wall_forces(p.x, p.z, p.rho, p.p, p.m, p.kind, p.body, p.comp, p.hs, sim.kp, sim.kin,
+                len(sim.kin), fx, fz, mom, sim._pf, sim.force_scale, sim.op,
+                sim.nlist.start, sim.nlist.inner, sim.nlist.inner_end, sim.tension,
+                sim._surf, None)
+    np.testing.assert_allclose(np.c_[fx[hull], fz[hull], mom[hull]], after, rtol=1e-12,
+                               atol=1e-9 * abs(after[0, 1]))
+
+
+@pytest.mark.parametrize("level, margin, warns", [
+    (1, 2.9, True), (1, 3.0, False),    # the coarse support at dx = 0.8 m: 2.95 m
+    (2, 1.45, True), (2, 1.5, False),   # level 1's: 1.48 m
+])
+def test_a_box_margin_within_the_coarser_support_is_warned_about(caplog, level, margin,
+                                                                 warns):
+    """A hull closer to its finest box's edge than the next coarser level's kernel support
+    is reached by that level's fluid outside the box, whose push on the hull's coarser
+    layers the hull takes besides the fine fluid's: the case warns, naming the key and
+    the smallest margin without it."""
+    with caplog.at_level(logging.WARNING, logger="sph.cases.ship"):
+        builtin("damaged_ship", [f"geometry.refine_hull={level}",
+                                 f"geometry.refine_margin={margin}"])
+    msgs = [r.getMessage() for r in caplog.records if "refine_margin" in r.getMessage()]
+    assert bool(msgs) == warns, msgs
+    if warns:
+        assert f"allowed from {2.952 / 2 ** (level - 1):.3g} m" in msgs[0]
 
 
 def test_the_density_band_is_checked_over_the_active_fluid():
