@@ -247,8 +247,7 @@ class Stepper:
         active fluid, whatever level's region they lie in. A family active at a coarser
         level inside a finer box (:func:`sph.engine.refinement.assign`) pushes on the
         hull's coarse layers, and its fine children, ghosts, push on nothing: left out,
-        its share of the hull's pressure was lost (the refined Table I ships sank and
-        rolled over, docs/validation/refinement.md)."""
+        its share of the hull's pressure was lost (docs/validation/refinement.md)."""
         return self._reach if self.variable else None
 
     def _hs(self, parts):
