@@ -744,8 +744,9 @@ def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start
     with it, so that no rebuild changes a pressure by more than a few metres of head.
 
     In the bulk: no wall in its support, and :math:`\phi_j \ge` ``bulk`` for itself and
-    every fluid particle of its level in its support that has no wall in its own, so that
-    no free surface is within reach of any of them. A particle whose :math:`|e_i|` passes
+    every active fluid particle of its level in its support that has no wall in its own, so
+    that no free surface is within reach of any of them (a ghost's fraction is not asked:
+    it may read a hole in the ghosts' lattice). A particle whose :math:`|e_i|` passes
     :data:`PACK_RANGE` is left as it is: it sits against a cluster of ghosts, which feel
     no force and do not give way. ``changed[i]``: the factor applied (1 where none)."""
     r2max = kp[KP_R2MAX]
@@ -761,8 +762,11 @@ def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start
             j = index[k]
             ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
                                          op, kin)
-            # (a neighbour with a wall in its support, -1, says nothing of a free surface)
-            if ok and phi[j] < lo and not (phi[j] == -1.0 and kind[j] == FLUID):
+            # the active neighbours tell of a free surface; a ghost's fraction may read a
+            # hole in the ghosts' lattice, and one with a wall in its support (-1) tells
+            # nothing
+            if ok and body[j] != GHOST and phi[j] < lo and not (phi[j] == -1.0
+                                                               and kind[j] == FLUID):
                 lo = phi[j]
         e = rho_sum[i] / rho[i] - 1.0
         if lo >= bulk and abs(e) <= PACK_RANGE:
