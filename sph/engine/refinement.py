@@ -84,12 +84,12 @@ from sph.engine.opening import in_sight, in_sight_near, opening_circle, sees
 from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
 
 #: the packing correction (:func:`packing_density`, at every rebuild of the lists): a
-#: particle is in the bulk where the packing fraction of every fluid particle in its support
-#: is at least this (a particle 1.5 h below a flat free surface: about 0.98)
+#: particle is in the bulk where its packing fraction and that of every active fluid
+#: particle in its support is at least this (1.5 h below a flat free surface: about 0.98)
 PACK_BULK = 0.98
-#: and its density moves this share of the way to the one its spacing gives
+#: and its density moves this share of the way to its summation density
 PACK_RELAX = 0.2
-#: at most this share of the packing fraction's departure from one is taken at a rebuild
+#: of a relative mismatch beyond this, only this much is taken at a rebuild
 PACK_STEP = 0.005
 #: a mismatch beyond this is not taken: the particle sits against a cluster of ghosts (a
 #: ghost feels no force, so their spacing is not one the fluid can take)

@@ -468,6 +468,7 @@ class Stepper:
         self._mark_ghosts()
         if self.variable:
             self._pack()
+        self._rebuilt = True
 
     def _pack(self) -> None:
         """Under variable resolution, bring the density of the active fluid in the bulk
@@ -484,14 +485,13 @@ class Stepper:
         (:func:`packing_fraction`) of the active fluid beside the hull grew from 1.000 at t1
         to a median of 1.07-1.13 twenty seconds later, the level-0 fluid below the hull to
         1.07 down to the tank's floor, and the intact ship sank 0.8 m below its
-        uniform-resolution draught."""
+        uniform-resolution draught (docs/findings.md)."""
         p, nl = self.parts, self.nlist
         packing_fraction(p.x, p.z, p.rho, p.m, p.kind, p.comp, p.body, p.hs, self.kp, self.op,
                          self.kin, nl.start, nl.index, self._phi, self._rho_sum)
         packing_density(p.x, p.z, p.rho, p.rho_old, p.kind, p.comp, p.body, p.hs, self.kp,
                         self.op, self.kin, nl.start, nl.index, self._phi, self._rho_sum,
                         PACK_BULK, PACK_RELAX, self._pack_f)
-        self._rebuilt = True
 
     def _seed_pairs(self, state: dict[str, np.ndarray]) -> list[tuple[int, object]]:
         """``(index in the seed state, object)`` of the stateful objects that take a seed
