@@ -690,23 +690,24 @@ def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inne
 @njit(**JIT_PARALLEL)
 def packing_fraction(x, z, rho, m, kind, comp, body, hs, kp, op, kin, start, index, phi,
                      rho_sum):
-    r"""Each fluid particle's share of space its own level's fluid fills in its kernel and
-    its summation density,
+    r"""The share of space its own level's fluid fills in its kernel and the summation
+    density,
 
     .. math:: \phi_i = \sum_j \frac{m_j}{\rho_j} W_{ij},\qquad
               \rho^\Sigma_i = \sum_j m_j W_{ij},
 
-    over itself and the fluid of its level it sees, active and ghost (the ghosts complete
-    each level's lattice across a level boundary), by the Verlet lists ``start, index``
-    just built. :math:`\phi_i` is one in the bulk of a fluid whose densities agree with
-    its particles' spacing, below one within a few smoothing lengths of a free surface;
-    there :math:`\rho^\Sigma_i` is the density the spacing gives. Both are -1 for walls and
-    where a wall particle is in the support (the fluid alone does not fill it there)."""
+    of each active fluid particle, over itself and the fluid of its level it sees, active
+    and ghost (the ghosts complete each level's lattice across a level boundary), by the
+    Verlet lists ``start, index`` just built. :math:`\phi_i` is one in the bulk of a fluid
+    whose densities agree with its particles' spacing, below one within a few smoothing
+    lengths of a free surface; there :math:`\rho^\Sigma_i` is the density the spacing gives.
+    Both are -1 for walls and ghosts (nothing asks theirs), and where a wall particle is in
+    the support (the fluid alone does not fill it there)."""
     r2max = kp[KP_R2MAX]
     for i in prange(x.shape[0]):
         phi[i] = -1.0
         rho_sum[i] = -1.0
-        if kind[i] != FLUID:
+        if kind[i] != FLUID or body[i] == GHOST:
             continue
         xi = x[i]
         zi = z[i]
@@ -762,11 +763,10 @@ def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start
             j = index[k]
             ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
                                          op, kin)
-            # the active neighbours tell of a free surface; a ghost's fraction may read a
-            # hole in the ghosts' lattice, and one with a wall in its support (-1) tells
-            # nothing
-            if ok and body[j] != GHOST and phi[j] < lo and not (phi[j] == -1.0
-                                                               and kind[j] == FLUID):
+            # the active neighbours with a fraction tell of a free surface: a ghost's
+            # might read a hole in the ghosts' lattice, and one with a wall in its support
+            # has none (-1; a wall in sight of i itself left phi[i] at -1)
+            if ok and 0.0 <= phi[j] < lo:
                 lo = phi[j]
         e = rho_sum[i] / rho[i] - 1.0
         if lo >= bulk and abs(e) <= PACK_RANGE:

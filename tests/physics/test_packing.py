@@ -3,7 +3,8 @@
 particle's level fills in its kernel is one in the bulk of a fluid whose densities agree with
 its spacing, below one near a free surface; where the particles are packed closer than their
 densities say, the densities of the bulk move to the ones the spacing gives, by at most the
-step per rebuild, and the fluid near a free surface, a wall or a ghost is left as it was.
+step per rebuild; the fluid near a free surface or a wall, or against a cluster of ghosts, is
+left as it was.
 """
 
 import numpy as np
