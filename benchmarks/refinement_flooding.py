@@ -14,6 +14,19 @@ beyond it).
 and the heel with the fine run at every output time after t1, prints the largest
 differences and writes ``DIR/refinement_flooding.json``. The ``fine_cfl`` line is the floor
 of such a comparison: two fine runs a round-off path apart part by that much.
+
+Two measures need no reference run, so they hold however far a run's flooding has parted
+from the fine one's by round-off: once the cabin has filled (from t1 + ``SETTLED`` s), in
+windows of ``WINDOW`` s,
+
+- **draught**: the largest gap between the mean heave and the lost-buoyancy heave of the
+  mean flood water, -w Q / B (Q the cabin's water per unit length, ``flood_volume``; w the
+  damaged segment's share of the ship's length; B the breadth): a ship in still water
+  floats at it whatever its water does, within how fast it follows (the uniform runs to
+  0.05 m);
+- **force noise**: the median over the windows of the standard deviation of the hull's
+  vertical force less its one-second running mean: the pressure waves the hull feels,
+  which a weakly compressible flow carries and its viscosity damps.
 """
 
 from __future__ import annotations
@@ -34,6 +47,8 @@ from sph.driver import Simulation
 #: with the fine one at all (the flooding jet and the heel it drives are sensitive)
 MODES = {"coarse": (0.8, 0, 0.2), "fine": (0.4, 0, 0.2), "fine_cfl": (0.4, 0, 0.19),
          "refined": (0.8, 1, 0.2)}
+#: seconds after t1 from which the cabin counts as filled, and the measures' window (s)
+SETTLED, WINDOW = 8.0, 4.0
 
 
 def case(mode: str, t_end: float, threads: int, margin: float = 4.0):
@@ -64,6 +79,27 @@ def _series(ds):
             ds["roll"].values)
 
 
+def draught_and_noise(ds) -> tuple[float, float]:
+    """The largest gap (m) between a window's mean heave and the lost-buoyancy heave of its
+    mean flood water, and the median force noise (N), over the windows after the cabin has
+    filled (module docstring)."""
+    t = ds["time"].values
+    heave, q = ds["heave"].values, ds["flood_volume"].values
+    fz = ds["body_force_z"].values.reshape(-1, t.size).sum(axis=0)
+    w = float(str(ds.attrs["segment_weights"]).split()[-1])
+    n = max(int(round(1.0 / np.median(np.diff(t)))), 1)
+    noise = fz - np.convolve(fz, np.ones(n) / n, mode="same")
+    gaps, sds = [], []
+    start = ds.attrs["damage_time"] + SETTLED
+    for a in np.arange(start, t[-1] - WINDOW + 1e-9, WINDOW):
+        m = (t >= a) & (t < a + WINDOW) & (t > t[0] + 0.5) & (t < t[-1] - 0.5)
+        gaps.append(abs(heave[m].mean() + w * q[m].mean() / ds.attrs["breadth"]))
+        sds.append(noise[m].std())
+    if not gaps:
+        return float("nan"), float("nan")
+    return float(max(gaps)), float(np.median(sds))
+
+
 def report(args) -> None:
     d = Path(args.dir)
     runs = {m: xr.open_dataset(d / f"flood_{m}.nc") for m in MODES
@@ -86,10 +122,13 @@ def report(args) -> None:
             heave_diff_max=float(np.max(np.abs(heave[:n] - hf[:n])[after])),
             heel_diff_max_deg=float(np.max(np.abs(roll[:n] - rf[:n])[after])))
         r = result[mode]
+        r["draught_gap_max"], r["force_noise"] = draught_and_noise(ds)
         print(f"{mode}: to t = {r['t_end']:.1f} s ({r['status']}), Q/V {r['q_final']:.3f} "
               f"(fine {r['q_fine_final']:.3f}), largest |dQ/V| {r['dq_max']:.3f}, relative "
               f"{r['dq_rel_max_after_half']:.3f} once half full; heave {r['heave_diff_max']:.3f} m;"
-              f" heel {r['heel_diff_max_deg']:.2f} degree; {r['wall_seconds']:.0f} s")
+              f" heel {r['heel_diff_max_deg']:.2f} degree; draught {r['draught_gap_max']:.3f} m"
+              f" off its lost-buoyancy heave at most; force noise {r['force_noise'] / 1e3:.1f} kN;"
+              f" {r['wall_seconds']:.0f} s")
     (d / "refinement_flooding.json").write_text(json.dumps(result, indent=1))
 
 
