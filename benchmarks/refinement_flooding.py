@@ -27,6 +27,9 @@ windows of ``WINDOW`` s,
 - **force noise**: the median over the windows of the standard deviation of the hull's
   vertical force less its one-second running mean: the pressure waves the hull feels,
   which a weakly compressible flow carries and its viscosity damps.
+- **kinetic energy**: the largest window mean of the fluid's kinetic energy from t1 +
+  ``CALM`` s, once the inrush has died down: in still water it only falls or is handed
+  back and forth with the ship's slow motion.
 """
 
 from __future__ import annotations
@@ -49,6 +52,8 @@ MODES = {"coarse": (0.8, 0, 0.2), "fine": (0.4, 0, 0.2), "fine_cfl": (0.4, 0, 0.
          "refined": (0.8, 1, 0.2)}
 #: seconds after t1 from which the cabin counts as filled, and the measures' window (s)
 SETTLED, WINDOW = 8.0, 4.0
+#: seconds after t1 from which the fluid's kinetic energy is read (module docstring)
+CALM = 20.0
 
 
 def case(mode: str, t_end: float, threads: int, margin: float = 4.0):
@@ -79,25 +84,29 @@ def _series(ds):
             ds["roll"].values)
 
 
-def draught_and_noise(ds) -> tuple[float, float]:
+def draught_and_noise(ds) -> tuple[float, float, float]:
     """The largest gap (m) between a window's mean heave and the lost-buoyancy heave of its
-    mean flood water, and the median force noise (N), over the windows after the cabin has
-    filled (module docstring)."""
+    mean flood water and the median force noise (N), over the windows after the cabin has
+    filled, and the largest window mean of the kinetic energy (J) from t1 + ``CALM``
+    (module docstring)."""
     t = ds["time"].values
     heave, q = ds["heave"].values, ds["flood_volume"].values
     fz = ds["body_force_z"].values.reshape(-1, t.size).sum(axis=0)
     w = float(str(ds.attrs["segment_weights"]).split()[-1])
     n = max(int(round(1.0 / np.median(np.diff(t)))), 1)
     noise = fz - np.convolve(fz, np.ones(n) / n, mode="same")
-    gaps, sds = [], []
-    start = ds.attrs["damage_time"] + SETTLED
-    for a in np.arange(start, t[-1] - WINDOW + 1e-9, WINDOW):
+    ke = ds["kinetic_energy"].values
+    gaps, sds, kes = [], [], []
+    t1 = ds.attrs["damage_time"]
+    for a in np.arange(t1 + SETTLED, t[-1] - WINDOW + 1e-9, WINDOW):
         m = (t >= a) & (t < a + WINDOW) & (t > t[0] + 0.5) & (t < t[-1] - 0.5)
         gaps.append(abs(heave[m].mean() + w * q[m].mean() / ds.attrs["breadth"]))
         sds.append(noise[m].std())
-    if not gaps:
-        return float("nan"), float("nan")
-    return float(max(gaps)), float(np.median(sds))
+        if a >= t1 + CALM:
+            kes.append(ke[m].mean())
+    nan = float("nan")
+    return (float(max(gaps)) if gaps else nan, float(np.median(sds)) if sds else nan,
+            float(max(kes)) if kes else nan)
 
 
 def report(args) -> None:
@@ -122,12 +131,13 @@ def report(args) -> None:
             heave_diff_max=float(np.max(np.abs(heave[:n] - hf[:n])[after])),
             heel_diff_max_deg=float(np.max(np.abs(roll[:n] - rf[:n])[after])))
         r = result[mode]
-        r["draught_gap_max"], r["force_noise"] = draught_and_noise(ds)
+        r["draught_gap_max"], r["force_noise"], r["kinetic_energy_max"] = draught_and_noise(ds)
         print(f"{mode}: to t = {r['t_end']:.1f} s ({r['status']}), Q/V {r['q_final']:.3f} "
               f"(fine {r['q_fine_final']:.3f}), largest |dQ/V| {r['dq_max']:.3f}, relative "
               f"{r['dq_rel_max_after_half']:.3f} once half full; heave {r['heave_diff_max']:.3f} m;"
               f" heel {r['heel_diff_max_deg']:.2f} degree; draught {r['draught_gap_max']:.3f} m"
               f" off its lost-buoyancy heave at most; force noise {r['force_noise'] / 1e3:.1f} kN;"
+              f" kinetic energy up to {r['kinetic_energy_max'] / 1e3:.0f} kJ once calm;"
               f" {r['wall_seconds']:.0f} s")
     (d / "refinement_flooding.json").write_text(json.dumps(result, indent=1))
 
