@@ -15,7 +15,7 @@ and the heel with the fine run at every output time after t1, prints the largest
 differences and writes ``DIR/refinement_flooding.json``. The ``fine_cfl`` line is the floor
 of such a comparison: two fine runs a round-off path apart part by that much.
 
-Two measures need no reference run, so they hold however far a run's flooding has parted
+Three measures need no reference run, so they hold however far a run's flooding has parted
 from the fine one's by round-off: once the cabin has filled (from t1 + ``SETTLED`` s), in
 windows of ``WINDOW`` s,
 
@@ -26,7 +26,7 @@ windows of ``WINDOW`` s,
   0.05 m);
 - **force noise**: the median over the windows of the standard deviation of the hull's
   vertical force less its one-second running mean: the pressure waves the hull feels,
-  which a weakly compressible flow carries and its viscosity damps.
+  which a weakly compressible flow carries and its viscosity damps;
 - **kinetic energy**: the largest window mean of the fluid's kinetic energy from t1 +
   ``CALM`` s, once the inrush has died down: in still water it only falls or is handed
   back and forth with the ship's slow motion.
@@ -84,7 +84,7 @@ def _series(ds):
             ds["roll"].values)
 
 
-def draught_and_noise(ds) -> tuple[float, float, float]:
+def reference_free_measures(ds) -> tuple[float, float, float]:
     """The largest gap (m) between a window's mean heave and the lost-buoyancy heave of its
     mean flood water and the median force noise (N), over the windows after the cabin has
     filled, and the largest window mean of the kinetic energy (J) from t1 + ``CALM``
@@ -131,7 +131,8 @@ def report(args) -> None:
             heave_diff_max=float(np.max(np.abs(heave[:n] - hf[:n])[after])),
             heel_diff_max_deg=float(np.max(np.abs(roll[:n] - rf[:n])[after])))
         r = result[mode]
-        r["draught_gap_max"], r["force_noise"], r["kinetic_energy_max"] = draught_and_noise(ds)
+        r.update(zip(("draught_gap_max", "force_noise", "kinetic_energy_max"),
+                     reference_free_measures(ds), strict=True))
         print(f"{mode}: to t = {r['t_end']:.1f} s ({r['status']}), Q/V {r['q_final']:.3f} "
               f"(fine {r['q_fine_final']:.3f}), largest |dQ/V| {r['dq_max']:.3f}, relative "
               f"{r['dq_rel_max_after_half']:.3f} once half full; heave {r['heave_diff_max']:.3f} m;"

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from refinement_flooding import draught_and_noise  # noqa: E402
+from refinement_flooding import reference_free_measures  # noqa: E402
 
 B, W, T1 = 16.0, 1.0 / 3.0, 1.0
 
@@ -32,7 +32,7 @@ def record(offset=0.0, noise=0.0, growth=0.0, seed=1):
 
 
 def test_a_ship_at_its_lost_buoyancy_heave_reads_no_gap_and_no_noise():
-    gap, noise, ke = draught_and_noise(record())
+    gap, noise, ke = reference_free_measures(record())
     assert gap < 1e-3  # only the rounding of the weights in the attributes
     assert noise < 0.5e3  # a 16 s swing is not noise (its residual after a 1 s mean)
     # from t1 + 20 s the inrush's energy is gone: the 20 kJ left, and its decaying tail
@@ -40,7 +40,7 @@ def test_a_ship_at_its_lost_buoyancy_heave_reads_no_gap_and_no_noise():
 
 
 def test_a_ship_sunk_below_it_and_a_noisy_force_read_their_offset_and_noise():
-    gap, noise, ke = draught_and_noise(record(offset=-0.4, noise=50e3, growth=0.1))
+    gap, noise, ke = reference_free_measures(record(offset=-0.4, noise=50e3, growth=0.1))
     assert gap == pytest.approx(0.4, abs=0.01)
     # white noise less its 1 s (10-sample) running mean keeps sqrt(1 - 1/10) of its spread
     assert noise == pytest.approx(50e3 * np.sqrt(0.9), rel=0.15)
