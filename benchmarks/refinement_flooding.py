@@ -44,6 +44,7 @@ from compare import run_report_main
 
 from sph.cases import builtin
 from sph.driver import Simulation
+from sph.study.findings import oscillation
 
 #: dx, refinement level around the hull, Courant number; ``fine_cfl`` is the fine run at a
 #: Courant number 5 % lower: the spread between the two is how closely a run can be compared
@@ -93,15 +94,14 @@ def reference_free_measures(ds) -> tuple[float, float, float]:
     heave, q = ds["heave"].values, ds["flood_volume"].values
     fz = ds["body_force_z"].values.reshape(-1, t.size).sum(axis=0)
     w = float(str(ds.attrs["segment_weights"]).split()[-1])
-    n = max(int(round(1.0 / np.median(np.diff(t)))), 1)
-    noise = fz - np.convolve(fz, np.ones(n) / n, mode="same")
+    noise = oscillation(t, fz, 1.0)  # NaN within half a second of either end
     ke = ds["kinetic_energy"].values
     gaps, sds, kes = [], [], []
     t1 = ds.attrs["damage_time"]
     for a in np.arange(t1 + SETTLED, t[-1] - WINDOW + 1e-9, WINDOW):
-        m = (t >= a) & (t < a + WINDOW) & (t > t[0] + 0.5) & (t < t[-1] - 0.5)
+        m = (t >= a) & (t < a + WINDOW)
         gaps.append(abs(heave[m].mean() + w * q[m].mean() / ds.attrs["breadth"]))
-        sds.append(noise[m].std())
+        sds.append(np.nanstd(noise[m]))
         if a >= t1 + CALM:
             kes.append(ke[m].mean())
     nan = float("nan")
