@@ -1,0 +1,146 @@
+"""Large first-mode sloshing across a refinement box: does the fluid keep its volume?
+
+A rectangular tank 24 m long with water 12 m deep (the ship tank's depth; the ship cases'
+numerics: dx = 0.8 m, no density filter, shifting, wall damping, the tension floor) sloshes
+in its first mode from a flat surface with the linear mode's velocity field (amplitude
+2 m at the walls, period 5.8 s). Beneath the surface the water moves about 1 m to and fro
+and 0.7 m up and down, so families of particles cross the edges of a refinement box and
+change level twice a period. Modes:
+
+- ``coarse``, ``fine``: uniform dx = 0.8 m and 0.4 m, the references;
+- ``deep``: a level-1 box x in [8, 16] m, z in [3, 8] m, under the surface;
+- ``surface``: a level-1 box x in [8, 16] m through the free surface, as a ship's box.
+
+    python benchmarks/refinement_sloshing.py run --mode deep --out DIR [--t-end 60]
+        [--hysteresis 0.5]
+    python benchmarks/refinement_sloshing.py report DIR
+
+A run takes about a minute on one core (the fine one 35 s, the coarse one 6 s). ``run``
+records every 0.05 s the kinetic energy KE and the potential energy PE of the fluid that
+carries the mass (ghosts excluded) and writes ``DIR/slosh_<mode>[_h<hysteresis>].json``;
+``--hysteresis`` sets :data:`sph.engine.refinement.HYSTERESIS` (the coarse spacings past a
+box's edge at which a family changes level) for the run. A run stopped by the engine
+(a particle leaving the tank) keeps its record up to then.
+
+What must hold: the mechanical energy E = KE + PE - PE(0) (PE(0): the fluid at rest with a
+flat surface, which it is at t = 0) only decays, by the viscosity, and never falls below
+zero: below zero the fluid fills less room than its densities say. ``report`` prints, per
+6 s window, E against E(0); the fluid's mean surface at the end (the mean over 2 m columns
+of the highest particle; the first mode cancels in it); and writes
+``DIR/refinement_sloshing.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+from compare import run_report_main
+
+import sph.engine.refinement as refinement
+from sph.cases import builtin
+from sph.driver import Simulation
+from sph.engine.refinement import active_fluid
+from sph.engine.stepper import SimulationError
+
+LENGTH, DEPTH, AMPLITUDE, DX = 24.0, 12.0, 2.0, 0.8
+BOXES = {"coarse": [], "fine": [],
+         "deep": [{"x": [8.0, 16.0], "z": [3.0, 8.0], "level": 1}],
+         "surface": [{"x": [8.0, 16.0], "z": [-2.0, 20.0], "level": 1}]}
+#: seconds between records, and the report's window
+RECORD, WINDOW = 0.05, 6.0
+
+
+def case(mode: str, t_end: float, threads: int):
+    over = [("numerics.dx", DX / 2 if mode == "fine" else DX),
+            ("geometry.tank_length", LENGTH), ("geometry.tank_height", 2 * DEPTH),
+            ("geometry.fill", 0.5), ("geometry.amplitude", AMPLITUDE),
+            ("numerics.density_filter", "none"), ("numerics.shifting", 1.0),
+            ("numerics.pressure_floor", -1.0e5), ("numerics.wall_damping", True),
+            ("numerics.threads", threads), ("probes.surface", []), ("run.t_end", t_end),
+            ("numerics.refinement", BOXES[mode])]
+    return builtin("sloshing_rect", over)
+
+
+def _surface(p) -> float:
+    """Mean over 2 m columns of the highest mass-carrying particle (m)."""
+    a = active_fluid(p)
+    x, z = p.x[a], p.z[a]
+    return float(np.mean([z[(x >= c) & (x < c + 2.0)].max()
+                          for c in np.arange(0.0, LENGTH, 2.0)]))
+
+
+def run(args) -> None:
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    name = args.mode if args.hysteresis is None else f"{args.mode}_h{args.hysteresis:g}"
+    if args.hysteresis is not None:
+        refinement.HYSTERESIS = args.hysteresis  # read at every rebuild of the lists
+    sim = Simulation(case(args.mode, args.t_end, args.threads))
+    sim.evaluate()
+    rec, status, nxt = [], "completed", 0.0
+    surface0 = _surface(sim.parts)
+    t0 = time.perf_counter()
+    while sim.t < args.t_end:
+        if sim.t >= nxt - 1e-9:
+            p = sim.parts
+            a = active_fluid(p)
+            rec.append((sim.t, 0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
+                        9.81 * float(np.sum(p.m[a] * p.z[a]))))
+            nxt += RECORD
+        try:
+            sim.advance()
+        except SimulationError as e:
+            status = str(e)
+            break
+    p = sim.parts
+    result = dict(mode=args.mode, hysteresis=refinement.HYSTERESIS, status=status,
+                  wall_seconds=time.perf_counter() - t0, steps=sim.step,
+                  mass=float(np.sum(p.m[active_fluid(p)])), surface_start=surface0,
+                  surface_end=_surface(p), record=rec)
+    (out / f"slosh_{name}.json").write_text(json.dumps(result))
+    print(f"{name}: {sim.step} steps to t = {sim.t:.2f} s, {result['wall_seconds']:.0f} s; "
+          f"{status}")
+
+
+def measures(r: dict) -> dict:
+    """Windows' mean E / E(0), the lowest window mean of E (J) and the surface's change."""
+    t, ke, pe = np.array(r["record"]).T
+    e = ke + pe - pe[0]
+    starts = np.arange(0.0, t[-1] - WINDOW + 1e-9, WINDOW)
+    windows = [float(e[(t >= a) & (t < a + WINDOW)].mean() / e[0]) for a in starts]
+    return dict(t_end=float(t[-1]), e_windows=windows,
+                e_min=float(min(windows) * e[0]) if windows else float("nan"),
+                surface_change=r["surface_end"] - r["surface_start"])
+
+
+def report(args) -> None:
+    d = Path(args.dir)
+    result = {}
+    for f in sorted(d.glob("slosh_*.json")):
+        r = json.loads(f.read_text())
+        m = measures(r)
+        result[f.stem[6:]] = dict(status=r["status"], wall_seconds=r["wall_seconds"], **m)
+        print(f"{f.stem[6:]:>12}: to {m['t_end']:.1f} s, E/E(0) by {WINDOW:g} s windows "
+              + " ".join(f"{v:+.2f}" for v in m["e_windows"])
+              + f"; surface {m['surface_change']:+.2f} m; {r['wall_seconds']:.0f} s"
+              + ("" if r["status"] == "completed" else f"; stopped: {r['status'][:90]}"))
+    (d / "refinement_sloshing.json").write_text(json.dumps(result, indent=1))
+
+
+def _run_args(parser) -> None:
+    parser.add_argument("--mode", choices=sorted(BOXES), required=True)
+    parser.add_argument("--t-end", type=float, default=60.0)
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--hysteresis", type=float, default=None,
+                        help="sph.engine.refinement.HYSTERESIS for this run (coarse spacings)")
+
+
+def main() -> None:
+    run_report_main(__doc__, run, report, _run_args)
+
+
+if __name__ == "__main__":
+    main()
