@@ -12,15 +12,19 @@ change level twice a period. Modes:
 - ``surface``: a level-1 box x in [8, 16] m through the free surface, as a ship's box.
 
     python benchmarks/refinement_sloshing.py run --mode deep --out DIR [--t-end 60]
-        [--hysteresis 0.5]
+        [--hysteresis 0.5] [--jitter 0.25] [--density-filter none]
     python benchmarks/refinement_sloshing.py report DIR
 
 A run takes about a minute on one core (the fine one 35 s, the coarse one 6 s). ``run``
 records every 0.05 s the kinetic energy KE and the potential energy PE of the fluid that
 carries the mass (ghosts excluded) and writes ``DIR/slosh_<mode>[_h<hysteresis>].json``;
 ``--hysteresis`` sets :data:`sph.engine.refinement.HYSTERESIS` (the coarse spacings past a
-box's edge at which a family changes level) for the run. A run stopped by the engine
-(a particle leaving the tank) keeps its record up to then.
+box's edge at which a family changes level) for the run. ``--jitter A``: every
+``JITTER_EVERY`` s, a share ``JITTER_SHARE`` of the mass-carrying particles beneath the
+surface and away from the walls, drawn at random (a fixed seed), is displaced by up to A
+of its spacing in x and z: the disorder a change of level leaves in the lattice, put into
+a run without one. A run stopped by the engine (a particle leaving the tank) keeps its
+record up to then.
 
 What must hold: the mechanical energy E = KE + PE - PE(0) (PE(0): the fluid at rest with a
 flat surface, which it is at t = 0) only decays, by the viscosity, and never falls below
@@ -51,13 +55,15 @@ BOXES = {"coarse": [], "fine": [],
          "surface": [{"x": [8.0, 16.0], "z": [-2.0, 20.0], "level": 1}]}
 #: seconds between records, and the report's window
 RECORD, WINDOW = 0.05, 6.0
+#: ``--jitter``: seconds between the displacements, and the share of particles displaced
+JITTER_EVERY, JITTER_SHARE = 0.5, 0.05
 
 
-def case(mode: str, t_end: float, threads: int):
+def case(mode: str, t_end: float, threads: int, density_filter: str = "none"):
     over = [("numerics.dx", DX / 2 if mode == "fine" else DX),
             ("geometry.tank_length", LENGTH), ("geometry.tank_height", 2 * DEPTH),
             ("geometry.fill", 0.5), ("geometry.amplitude", AMPLITUDE),
-            ("numerics.density_filter", "none"), ("numerics.shifting", 1.0),
+            ("numerics.density_filter", density_filter), ("numerics.shifting", 1.0),
             ("numerics.pressure_floor", -1.0e5), ("numerics.wall_damping", True),
             ("numerics.threads", threads), ("probes.surface", []), ("run.t_end", t_end),
             ("numerics.refinement", BOXES[mode])]
@@ -72,15 +78,30 @@ def _surface(p) -> float:
                           for c in np.arange(0.0, LENGTH, 2.0)]))
 
 
+def _jitter(p, dx: float, amplitude: float, rng) -> None:
+    """Displace ``JITTER_SHARE`` of the mass-carrying particles 1.5 m or more inside the
+    walls and 3 m or more beneath the still surface by up to ``amplitude`` spacings."""
+    a = np.nonzero(active_fluid(p) & (p.z > 1.5) & (p.z < DEPTH - 3.0) & (p.x > 1.5)
+                   & (p.x < LENGTH - 1.5))[0]
+    k = rng.choice(a, max(1, int(JITTER_SHARE * len(a))), replace=False)
+    reach = amplitude * dx * p.hs[k]
+    p.x[k] += rng.uniform(-1.0, 1.0, len(k)) * reach
+    p.z[k] += rng.uniform(-1.0, 1.0, len(k)) * reach
+
+
 def run(args) -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    name = args.mode if args.hysteresis is None else f"{args.mode}_h{args.hysteresis:g}"
+    name = "_".join([args.mode] + [f"{k}{v:g}" if isinstance(v, float) else f"{k}{v}"
+                                   for k, v in (("h", args.hysteresis), ("j", args.jitter),
+                                                ("", args.density_filter))
+                                   if v not in (None, "none")])
     if args.hysteresis is not None:
         refinement.HYSTERESIS = args.hysteresis  # read at every rebuild of the lists
-    sim = Simulation(case(args.mode, args.t_end, args.threads))
+    sim = Simulation(case(args.mode, args.t_end, args.threads, args.density_filter))
     sim.evaluate()
-    rec, status, nxt = [], "completed", 0.0
+    rng = np.random.default_rng(1)
+    rec, status, nxt, shake = [], "completed", 0.0, JITTER_EVERY
     surface0 = _surface(sim.parts)
     t0 = time.perf_counter()
     while sim.t < args.t_end:
@@ -90,13 +111,17 @@ def run(args) -> None:
             rec.append((sim.t, 0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
                         9.81 * float(np.sum(p.m[a] * p.z[a]))))
             nxt += RECORD
+        if args.jitter and sim.t >= shake:
+            _jitter(sim.parts, sim.cfg.numerics.dx, args.jitter, rng)
+            shake += JITTER_EVERY
         try:
             sim.advance()
         except SimulationError as e:
             status = str(e)
             break
     p = sim.parts
-    result = dict(mode=args.mode, hysteresis=refinement.HYSTERESIS, status=status,
+    result = dict(mode=args.mode, hysteresis=refinement.HYSTERESIS, jitter=args.jitter,
+                  density_filter=args.density_filter, status=status,
                   wall_seconds=time.perf_counter() - t0, steps=sim.step,
                   mass=float(np.sum(p.m[active_fluid(p)])), surface_start=surface0,
                   surface_end=_surface(p), record=rec)
@@ -136,6 +161,10 @@ def _run_args(parser) -> None:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--hysteresis", type=float, default=None,
                         help="sph.engine.refinement.HYSTERESIS for this run (coarse spacings)")
+    parser.add_argument("--jitter", type=float, default=None,
+                        help="displace particles at random by up to this many spacings")
+    parser.add_argument("--density-filter", default="none",
+                        choices=("none", "mls", "delta", "ddt"))
 
 
 def main() -> None:

@@ -10,10 +10,11 @@ fills less room than its densities say (it packs), and its surface falls.
 
 What holds: with the families' hysteresis about the box edges (``HYSTERESIS``) at 2 coarse
 spacings, wider than the water's excursion, no family changes level and the run decays as
-the uniform coarse one does (E / E(0) within 0.05 of it, 0.31 against 0.35 after 54-60 s).
+the uniform coarse one does (E / E(0) within 0.05 of it; 0.31 against 0.35 over 48-54 s
+in the benchmark).
 What does not hold yet (strict xfail, measured 2026-11-30): at the default hysteresis the
 families that cross change level twice a period, and the fluid packs: E falls below zero
-from 24-30 s (-5.7 E(0) by 42-48 s) and the surface ends 0.8 m low
+from 24-30 s (-5.7 E(0) by 42-48 s) and the surface ends 0.8 m low at 60 s
 (docs/validation/refinement.md, "A sloshing tank"). Run with
 ``python -m pytest -n 0 -m slow tests/physics/test_refinement_sloshing.py`` (about 3
 minutes on one core).
