@@ -15,9 +15,10 @@ change level twice a period. Modes:
         [--hysteresis 0.5] [--jitter 0.25] [--density-filter none]
     python benchmarks/refinement_sloshing.py report DIR
 
-A run takes about a minute on one core (the fine one 35 s, the coarse one 6 s). ``run``
-records every 0.05 s the kinetic energy KE and the potential energy PE of the fluid that
-carries the mass (ghosts excluded) and writes ``DIR/slosh_<mode>[_h<hysteresis>].json``;
+A refined run takes one to one and a half minutes on one core, the fine one about a minute,
+the coarse one 9 s (60 s simulated, beside a second run). ``run`` records every 0.05 s the
+kinetic energy KE and the potential energy PE of the fluid that carries the mass (ghosts
+excluded) and writes ``DIR/slosh_<mode>[_h<H>][_j<A>][_<filter>].json``;
 ``--hysteresis`` sets :data:`sph.engine.refinement.HYSTERESIS` (the coarse spacings past a
 box's edge at which a family changes level) for the run. ``--jitter A``: every
 ``JITTER_EVERY`` s, a share ``JITTER_SHARE`` of the mass-carrying particles beneath the
