@@ -90,6 +90,34 @@ def _jitter(p, dx: float, amplitude: float, rng) -> None:
     p.z[k] += rng.uniform(-1.0, 1.0, len(k)) * reach
 
 
+def simulate(sim, t_end: float, jitter: float | None = None) -> dict:
+    """Run ``sim`` to ``t_end``, recording (t, KE, PE) of the mass-carrying fluid every
+    ``RECORD`` s (``jitter``: the ``--jitter`` displacements); a run the engine stops keeps
+    its record up to then. Returns ``record``, ``status`` and the mean surface at the start
+    and the end (``surface_start``, ``surface_end``)."""
+    sim.evaluate()
+    rng = np.random.default_rng(1)
+    rec, status, nxt, shake = [], "completed", 0.0, JITTER_EVERY
+    surface0 = _surface(sim.parts)
+    while sim.t < t_end:
+        if sim.t >= nxt - 1e-9:
+            p = sim.parts
+            a = active_fluid(p)
+            rec.append((sim.t, 0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
+                        9.81 * float(np.sum(p.m[a] * p.z[a]))))
+            nxt += RECORD
+        if jitter and sim.t >= shake:
+            _jitter(sim.parts, sim.cfg.numerics.dx, jitter, rng)
+            shake += JITTER_EVERY
+        try:
+            sim.advance()
+        except SimulationError as e:
+            status = str(e)
+            break
+    return dict(record=rec, status=status, surface_start=surface0,
+                surface_end=_surface(sim.parts))
+
+
 def run(args) -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -100,35 +128,16 @@ def run(args) -> None:
     if args.hysteresis is not None:
         refinement.HYSTERESIS = args.hysteresis  # read at every rebuild of the lists
     sim = Simulation(case(args.mode, args.t_end, args.threads, args.density_filter))
-    sim.evaluate()
-    rng = np.random.default_rng(1)
-    rec, status, nxt, shake = [], "completed", 0.0, JITTER_EVERY
-    surface0 = _surface(sim.parts)
     t0 = time.perf_counter()
-    while sim.t < args.t_end:
-        if sim.t >= nxt - 1e-9:
-            p = sim.parts
-            a = active_fluid(p)
-            rec.append((sim.t, 0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
-                        9.81 * float(np.sum(p.m[a] * p.z[a]))))
-            nxt += RECORD
-        if args.jitter and sim.t >= shake:
-            _jitter(sim.parts, sim.cfg.numerics.dx, args.jitter, rng)
-            shake += JITTER_EVERY
-        try:
-            sim.advance()
-        except SimulationError as e:
-            status = str(e)
-            break
+    rec = simulate(sim, args.t_end, args.jitter)
     p = sim.parts
     result = dict(mode=args.mode, hysteresis=refinement.HYSTERESIS, jitter=args.jitter,
-                  density_filter=args.density_filter, status=status,
+                  density_filter=args.density_filter,
                   wall_seconds=time.perf_counter() - t0, steps=sim.step,
-                  mass=float(np.sum(p.m[active_fluid(p)])), surface_start=surface0,
-                  surface_end=_surface(p), record=rec)
+                  mass=float(np.sum(p.m[active_fluid(p)])), **rec)
     (out / f"slosh_{name}.json").write_text(json.dumps(result))
     print(f"{name}: {sim.step} steps to t = {sim.t:.2f} s, {result['wall_seconds']:.0f} s; "
-          f"{status}")
+          f"{rec['status']}")
 
 
 def measures(r: dict) -> dict:

@@ -19,52 +19,33 @@ from 24-30 s (-5.7 E(0) by 42-48 s) and the surface ends 0.8 m low at 60 s
 ``python -m pytest -n 0 -m slow tests/physics/test_refinement_sloshing.py`` (about 3
 minutes on one core).
 """
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import sph.engine.refinement as refinement
-from sph.cases import builtin
 from sph.driver import Simulation
-from sph.engine.refinement import active_fluid
 
-T_END, WINDOW = 42.0, 6.0
-BOX = [{"x": [8.0, 16.0], "z": [3.0, 8.0], "level": 1}]
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+from refinement_sloshing import case, measures, simulate  # noqa: E402
+
+#: a record every 0.05 s to just past 42 s: seven 6 s windows, the last 36-42 s
+T_END = 42.1
 
 
-def _energy_windows(refined: bool):
+def _energy_windows(mode: str):
     """Window means of E / E(0) and the change of the mean surface (m)."""
-    over = [("numerics.dx", 0.8), ("geometry.tank_length", 24.0),
-            ("geometry.tank_height", 24.0), ("geometry.fill", 0.5),
-            ("geometry.amplitude", 2.0), ("numerics.density_filter", "none"),
-            ("numerics.shifting", 1.0), ("numerics.pressure_floor", -1.0e5),
-            ("numerics.wall_damping", True), ("numerics.threads", 1),
-            ("probes.surface", []), ("numerics.refinement", BOX if refined else [])]
-    sim = Simulation(builtin("sloshing_rect", over))
-    sim.evaluate()
-
-    def state():
-        p = sim.parts
-        a = active_fluid(p)
-        x, z = p.x[a], p.z[a]
-        top = np.mean([z[(x >= c) & (x < c + 2.0)].max() for c in range(0, 24, 2)])
-        return (sim.t, 0.5 * np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2)),
-                9.81 * np.sum(p.m[a] * z), top)
-
-    rec = [state()]
-    while sim.t < T_END:
-        sim.advance()
-        if sim.step % 50 == 0:
-            rec.append(state())
-    t, ke, pe, top = np.array(rec).T
-    e = ke + pe - pe[0]
-    wins = [e[(t >= a) & (t < a + WINDOW)].mean() / e[0]
-            for a in np.arange(0.0, T_END - WINDOW + 1e-9, WINDOW)]
-    return np.array(wins), top[-1] - top[0]
+    r = simulate(Simulation(case(mode, T_END, threads=1)), T_END)
+    assert r["status"] == "completed"
+    m = measures(r)
+    return np.array(m["e_windows"]), m["surface_change"]
 
 
 @pytest.fixture(scope="module")
 def coarse():
-    return _energy_windows(refined=False)
+    return _energy_windows("coarse")
 
 
 @pytest.fixture
@@ -79,7 +60,8 @@ def hysteresis(monkeypatch, request):
         strict=True, reason="families changing level in a flow pack the fluid "
         "(docs/validation/refinement.md)"))], indirect=True)
 def test_sloshing_across_a_box_keeps_its_volume(coarse, hysteresis):
-    wins, surface = _energy_windows(refined=True)
+    wins, surface = _energy_windows("deep")
+    assert len(wins) == 7
     assert wins.min() > 0.0, f"E / E(0) by windows {np.round(wins, 2)}"
     # the top particle of 2 m columns at dx = 0.8 m: the uniform runs end within 0.1 m
     assert abs(surface) < 0.15
