@@ -60,6 +60,7 @@ from sph.engine.refinement import (
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
 from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
+from sph.engine.volume import VOLUME_STRIDE, VolumeCorrection
 from sph.engine.walls import (
     fixed_kinematics,
     listed_with,
@@ -170,6 +171,10 @@ class Stepper:
         #: the finest level's smoothing length ratio: the time step and the lists' skins
         self.max_level = max((b.level for b in self._box_list), default=0)
         self.hs_min = 2.0 ** -self.max_level
+        #: under variable resolution, the volume correction on a grid of the coarsest
+        #: spacing (sph.engine.volume)
+        self.volume = (VolumeCorrection(self.setup.bounds, num.dx) if self.variable
+                       else None)
         #: children made and ghosts removed (:mod:`sph.engine.refinement`) so far
         self.n_spawned = 0
         self.n_removed = 0
@@ -603,6 +608,8 @@ class Stepper:
             apply_shift(p.x, p.z, p.sx, p.sz, p.kind)
         for body in self.bodies:
             body.update(self.dt, euler)
+        if self.volume is not None and s % VOLUME_STRIDE == 0:
+            self.volume.apply(p, VOLUME_STRIDE * self.dt)
         self.t += self.dt
         self.step = s
         self.evaluate()

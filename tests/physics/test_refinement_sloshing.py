@@ -54,12 +54,16 @@ def hysteresis(monkeypatch, request):
     return request.param
 
 
+@pytest.fixture(scope="module")
+def deep():
+    """The deep box at the default hysteresis: families cross its edges twice a period."""
+    return _energy_windows("deep")
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("hysteresis", [
-    2.0, pytest.param(refinement.HYSTERESIS, marks=pytest.mark.xfail(
-        strict=True, reason="families changing level in a flow pack the fluid "
-        "(docs/validation/refinement.md)"))], indirect=True)
-def test_sloshing_across_a_box_keeps_its_volume(coarse, hysteresis):
+@pytest.mark.parametrize("hysteresis", [2.0], indirect=True)
+def test_sloshing_across_a_box_no_family_changes_level_in_decays_as_the_coarse(coarse,
+                                                                               hysteresis):
     wins, surface = _energy_windows("deep")
     assert len(wins) == 7
     assert wins.min() > 0.0, f"E / E(0) by windows {np.round(wins, 2)}"
@@ -67,3 +71,21 @@ def test_sloshing_across_a_box_keeps_its_volume(coarse, hysteresis):
     assert abs(surface) < 0.15
     # the coarse spacing's viscous decay dominates; a box of finer fluid may only slow it
     np.testing.assert_allclose(wins, coarse[0], atol=0.05)
+
+
+@pytest.mark.slow
+def test_sloshing_with_families_changing_level_keeps_its_volume(coarse, deep):
+    """The volume correction (sph.engine.volume) keeps the fluid's room: the surface
+    within 0.1 m of the coarse run's, where without it the fluid packed and the surface
+    fell 0.4 m by 42 s (0.8 m by 60 s)."""
+    wins, surface = deep
+    assert len(wins) == 7
+    assert abs(surface - coarse[1]) < 0.1, (surface, coarse[1])
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the refinement's own dissipation and a packing "
+                   "within the correction's dead band (docs/validation/refinement.md)")
+def test_sloshing_with_families_changing_level_keeps_a_positive_energy(deep):
+    wins, _ = deep
+    assert wins.min() > 0.0, f"E / E(0) by windows {np.round(wins, 2)}"
