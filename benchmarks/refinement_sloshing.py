@@ -32,7 +32,9 @@ flat surface, which it is at t = 0) only decays, by the viscosity, and never fal
 zero: below zero the fluid fills less room than its densities say. ``report`` prints, per
 6 s window, E against E(0); the fluid's mean surface at the end (the mean over 2 m columns
 of the highest particle; the first mode cancels in it); and writes
-``DIR/refinement_sloshing.json``.
+``DIR/refinement_sloshing.json``. The refined runs take the volume correction of variable
+resolution (:mod:`sph.engine.volume`); the numbers before and after it are in
+docs/validation/refinement.md, "A sloshing tank".
 """
 
 from __future__ import annotations
