@@ -19,9 +19,10 @@ at random, packs the same way.
 The per-level packing correction (:func:`sph.engine.refinement.packing_density`) brings
 each particle's density towards its own level's kernel sum; that sum carries the
 disorder's bias (the defect itself) and reads each level's lattice, ghosts included, where
-the fluid is the union of the levels' active particles. The measure here is neither. At
-every step the volumes :math:`m_i/\rho_i` of the active fluid of all levels are spread onto
-a grid of the coarsest spacing: each node takes a particle's volume times the node's
+the fluid is the union of the levels' active particles. The measure here is neither. Every
+:data:`VOLUME_STRIDE` steps the volumes :math:`m_i/\rho_i` of the active fluid of all
+levels are spread onto a grid of the coarsest spacing: each node takes a particle's volume
+times the node's
 bilinear hat (two cells wide) averaged over the particle's own square (side: its level's
 spacing). The squares of a lattice, and of two lattices meeting at a level's edge, tile
 the plane and the hats sum to one, so the nodes read exactly one in the bulk of a fluid
@@ -60,18 +61,18 @@ from sph.engine.particles import FLUID, GHOST
 #: rate (1/s) at which a density takes the fraction's excess over the dead band: the
 #: mismatch relaxes over 1 / VOLUME_RATE s, many acoustic crossings of a cell
 VOLUME_RATE = 6.0
-#: steps between corrections (each takes the rate over that many steps): the pass costs
-#: about a tenth of a refined ship step
+#: steps between corrections (each takes the rate over that many steps): a pass costs
+#: 7.5 % of a refined ship step (docs/performance.md)
 VOLUME_STRIDE = 4
-#: dead band of the fraction in a full neighbourhood (a uniform flow's deposit reads
-#: 0.97-1.03 at the 1st-99th percentile)
+#: dead band of the fraction in a full neighbourhood: the smoothed reading's scatter in an
+#: ordered flow (0.999-1.001 at the 1st-99th percentile in the sloshing tank at 3 s)
 VOLUME_DEAD = 0.01
 #: dead band elsewhere, where only an excess is taken
 VOLUME_DEAD_EDGE = 0.01
 #: width of the smoothing Gaussian, in cells
 VOLUME_SIGMA = 1.0
-#: a cell's neighbourhood is full where every cell within ``VOLUME_REACH`` reads at least
-#: ``VOLUME_FULL`` before smoothing
+#: a node's neighbourhood is full where every node within ``VOLUME_REACH`` (the smoothing's
+#: reach) reads at least ``VOLUME_FULL`` after smoothing
 VOLUME_FULL = 0.9
 VOLUME_REACH = 3
 
