@@ -22,13 +22,13 @@ disorder's bias (the defect itself) and reads each level's lattice, ghosts inclu
 the fluid is the union of the levels' active particles. The measure here is neither. Every
 :data:`VOLUME_STRIDE` steps the volumes :math:`m_i/\rho_i` of the active fluid of all
 levels are spread onto a grid of the coarsest spacing: each node takes a particle's volume
-times the node's
-bilinear hat (two cells wide) averaged over the particle's own square (side: its level's
-spacing). The squares of a lattice, and of two lattices meeting at a level's edge, tile
-the plane and the hats sum to one, so the nodes read exactly one in the bulk of a fluid
-whose densities agree with its spacing, at any level and across levels; the weights sum to
-one wherever a particle is, so disorder adds scatter but no bias. The fraction is divided
-by the cells' area and smoothed by a Gaussian of :data:`VOLUME_SIGMA` cells.
+times the node's bilinear hat (two cells wide) averaged over the particle's own square
+(side: its level's spacing). The squares of a lattice, and of two lattices meeting at a
+level's edge, tile the plane and the hats sum to one, so the nodes read exactly one in the
+bulk of a fluid whose densities agree with its spacing, at any level and across levels;
+the weights sum to one wherever a particle is, so disorder adds scatter but no bias. The
+fraction is divided by the cells' area and smoothed by a Gaussian of :data:`VOLUME_SIGMA`
+cells.
 
 Where the smoothed fraction :math:`f` at a particle (bilinear) passes :math:`1 + d`, the
 particle's density (``rho_old`` with it) rises at the rate :data:`VOLUME_RATE`,
