@@ -104,20 +104,20 @@ def _weights(c, half, x0, inv):
 
 
 @njit(**JIT)
-def deposit(x, z, rho, m, hs, kind, body, x0, z0, spacing, dx, grid):
+def deposit(x, z, rho, m, hs, kind, body, x0, z0, spacing, grid):
     """Add the volume ``m / rho`` of every active fluid particle (not a ghost) to ``grid``.
     Node ``(i, k)`` sits at ``(x0 + (i + 1/2) spacing, z0 + (k + 1/2) spacing)`` and takes the
     particle's volume times its hat (bilinear, two cells wide) averaged over the particle's
-    square, of side its own spacing ``dx * hs``: the squares of a lattice, or of two
-    lattices meeting at an interface, tile the plane, so that the nodes read exactly one
-    wherever they do (a particle spacing up to the grid's). A particle with a node outside
-    the grid is left out."""
+    square, of side its own spacing ``spacing * hs`` (the grid's spacing is the coarsest
+    level's): the squares of a lattice, or of two lattices meeting at an interface, tile
+    the plane, so that the nodes read exactly one wherever they do. A particle with a node
+    outside the grid is left out."""
     nx, nz = grid.shape
     inv = 1.0 / spacing
     for n in range(x.shape[0]):
         if kind[n] != FLUID or body[n] == GHOST:
             continue
-        half = 0.5 * dx * hs[n]
+        half = 0.5 * spacing * hs[n]
         i0, a0, a1, a2 = _weights(x[n], half, x0, inv)
         k0, b0, b1, b2 = _weights(z[n], half, z0, inv)
         if i0 < 0 or k0 < 0 or i0 + 2 >= nx or k0 + 2 >= nz:
@@ -135,10 +135,9 @@ def correct(x, z, rho, rho_old, kind, body, x0, z0, spacing, frac, full, relax, 
             dead_edge, factor):
     """Scale the density of each active fluid particle by the fraction ``frac`` read at it
     (bilinear; the nearest node's ``full``), as the module says; ``factor[n]``: the factor
-    applied (1 where none). Returns how many particles were changed."""
+    applied (1 where none)."""
     nx, nz = frac.shape
     inv = 1.0 / spacing
-    changed = 0
     for n in range(x.shape[0]):
         factor[n] = 1.0
         if kind[n] != FLUID or body[n] == GHOST:
@@ -163,8 +162,6 @@ def correct(x, z, rho, rho_old, kind, body, x0, z0, spacing, frac, full, relax, 
             rho[n] *= s
             rho_old[n] *= s
             factor[n] = s
-            changed += 1
-    return changed
 
 
 class VolumeCorrection:
@@ -184,7 +181,7 @@ class VolumeCorrection:
         neighbourhood is full (module docstring)."""
         grid = np.zeros(self.shape)
         deposit(parts.x, parts.z, parts.rho, parts.m, parts.hs, parts.kind, parts.body,
-                self.x0, self.z0, self.spacing, self.spacing, grid)
+                self.x0, self.z0, self.spacing, grid)
         grid /= self.spacing * self.spacing
         frac = ndimage.gaussian_filter(grid, VOLUME_SIGMA, mode="constant", cval=0.0)
         full = ndimage.minimum_filter(frac, size=2 * VOLUME_REACH + 1, mode="constant",
