@@ -80,9 +80,20 @@ from sph.engine.filters import mls_solve
 from sph.engine.jit import JIT, JIT_PARALLEL, njit
 from sph.engine.kernels import KP_R2MAX, f_scaled, w_scaled
 from sph.engine.neighbours import CellGrid, _pack_lists
-from sph.engine.opening import in_sight_near, opening_circle, sees
+from sph.engine.opening import in_sight, in_sight_near, opening_circle, sees
 from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
 
+#: the packing correction (:func:`packing_density`, at every rebuild of the lists): a
+#: particle is in the bulk where its packing fraction and that of every active fluid
+#: particle in its support is at least this (1.5 h below a flat free surface: about 0.98)
+PACK_BULK = 0.98
+#: and its density moves this share of the way to its summation density
+PACK_RELAX = 0.2
+#: of a relative mismatch beyond this, only this much is taken at a rebuild
+PACK_STEP = 0.005
+#: a mismatch beyond this is not taken: the particle sits against a cluster of ghosts (a
+#: ghost feels no force, so their spacing is not one the fluid can take)
+PACK_RANGE = 0.1
 #: columns of the packed boxes (:func:`pack_boxes`)
 BX_XMIN, BX_XMAX, BX_ZMIN, BX_ZMAX, BX_LEVEL = range(5)
 #: a ghost's fields are a first-order fit where the active particles fill at least this
@@ -674,6 +685,95 @@ def ghost_diffusion(x, z, rho, m, kind, body, comp, hs, kp, op, kin, start, inne
                                      z, rho, m, kind, body, comp, hs, kp, r2max, op, kin, gw,
                                      hx, hz, False)
         drho[i] += coef * d
+
+
+@njit(**JIT_PARALLEL)
+def packing_fraction(x, z, rho, m, kind, comp, body, hs, kp, op, kin, start, index, phi,
+                     rho_sum):
+    r"""The share of space its own level's fluid fills in its kernel and the summation
+    density,
+
+    .. math:: \phi_i = \sum_j \frac{m_j}{\rho_j} W_{ij},\qquad
+              \rho^\Sigma_i = \sum_j m_j W_{ij},
+
+    of each active fluid particle, over itself and the fluid of its level it sees, active
+    and ghost (the ghosts complete each level's lattice across a level boundary), by the
+    Verlet lists ``start, index`` just built. :math:`\phi_i` is one in the bulk of a fluid
+    whose densities agree with its particles' spacing, below one within a few smoothing
+    lengths of a free surface; there :math:`\rho^\Sigma_i` is the density the spacing gives.
+    Both are -1 for walls and ghosts (nothing asks theirs), and where a wall particle is in
+    the support (the fluid alone does not fill it there)."""
+    r2max = kp[KP_R2MAX]
+    for i in prange(x.shape[0]):
+        phi[i] = -1.0
+        rho_sum[i] = -1.0
+        if kind[i] != FLUID or body[i] == GHOST:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        w0 = w_scaled(0.0, kp, hs[i])
+        acc = m[i] / rho[i] * w0
+        mass = m[i] * w0
+        walled = False
+        for k in range(start[i], start[i + 1]):
+            j = index[k]
+            if j == i:  # (a list holds its own particle)
+                continue
+            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                         op, kin)
+            if not ok:
+                continue
+            if kind[j] != FLUID:
+                walled = True
+                break
+            w = w_scaled(r2, kp, s)
+            acc += m[j] / rho[j] * w
+            mass += m[j] * w
+        if not walled:
+            phi[i] = acc
+            rho_sum[i] = mass
+
+
+@njit(**JIT_PARALLEL)
+def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start, index,
+                    phi, rho_sum, bulk, relax, changed):
+    r"""Bring the density of each active fluid particle in the bulk towards the one its
+    particles' spacing gives, its summation density (:func:`packing_fraction`):
+    :math:`\rho_i \leftarrow \rho_i\,[1 + \kappa e_i]`, :math:`e_i = \rho^\Sigma_i / \rho_i
+    - 1` taken within :data:`PACK_STEP` either way (``relax`` :math:`\kappa`), ``rho_old``
+    with it, so that no rebuild changes a pressure by more than a few metres of head.
+
+    In the bulk: no wall in its support, and :math:`\phi_j \ge` ``bulk`` for itself and
+    every active fluid particle of its level in its support that has no wall in its own, so
+    that no free surface is within reach of any of them (a ghost's fraction is not asked:
+    it may read a hole in the ghosts' lattice). A particle whose :math:`|e_i|` passes
+    :data:`PACK_RANGE` is left as it is: it sits against a cluster of ghosts, which feel
+    no force and do not give way. ``changed[i]``: the factor applied (1 where none)."""
+    r2max = kp[KP_R2MAX]
+    for i in prange(x.shape[0]):
+        changed[i] = 1.0
+        if kind[i] != FLUID or body[i] == GHOST or phi[i] < bulk:
+            continue
+        xi = x[i]
+        zi = z[i]
+        ci = comp[i]
+        lo = phi[i]
+        for k in range(start[i], start[i + 1]):
+            j = index[k]
+            ok, dx, dz, r2, s = in_sight(i, j, xi, zi, ci, x, z, kind, body, comp, hs, r2max,
+                                         op, kin)
+            # the active neighbours with a fraction tell of a free surface: a ghost's
+            # might read a hole in the ghosts' lattice, and one with a wall in its support
+            # has none (-1; a wall in sight of i itself left phi[i] at -1)
+            if ok and 0.0 <= phi[j] < lo:
+                lo = phi[j]
+        e = rho_sum[i] / rho[i] - 1.0
+        if lo >= bulk and abs(e) <= PACK_RANGE:
+            f = 1.0 + relax * min(max(e, -PACK_STEP), PACK_STEP)
+            rho[i] *= f
+            rho_old[i] *= f
+            changed[i] = f
 
 
 def levels(hs: np.ndarray) -> np.ndarray:

@@ -42,6 +42,8 @@ from sph.engine.particles import FLOAT_FIELDS, FLUID, GHOST, INT_FIELDS, WALL, P
 from sph.engine.probes import point_pressures, surface_heights
 from sph.engine.refinement import (
     BUFFER,
+    PACK_BULK,
+    PACK_RELAX,
     active_fluid,
     assign,
     ghost_diffusion,
@@ -51,6 +53,8 @@ from sph.engine.refinement import (
     level_counts,
     levels_at,
     pack_boxes,
+    packing_density,
+    packing_fraction,
     spawn,
 )
 from sph.engine.scales import Scales
@@ -343,6 +347,10 @@ class Stepper:
         self._pk = pair_work(n)
         # the weight each ghost acts with, fitted with it (ghost_fields)
         self._gw = np.ones(n) if self.variable else None
+        # each fluid particle's packing fraction and the density factor it took (_pack)
+        self._phi = np.zeros(n) if self.variable else None
+        self._rho_sum = np.zeros(n) if self.variable else None
+        self._pack_f = np.ones(n) if self.variable else None
         # numerics.wall_damping: each fluid particle's direction towards its walls
         damp = self.cfg.numerics.wall_damping
         self._wnx = np.zeros(n) if damp else None
@@ -463,7 +471,32 @@ class Stepper:
         self._refresh_inner()
         self._listed = p
         self._mark_ghosts()
+        if self.variable:
+            self._pack()
         self._rebuilt = True
+
+    def _pack(self) -> None:
+        """Under variable resolution, bring the density of the active fluid in the bulk
+        towards the one its particles' spacing gives (:func:`packing_density`), at every
+        rebuild of the lists.
+
+        The continuity equation keeps a particle's density in step with its neighbours'
+        spacing only while they move smoothly. The refinement moves particles in jumps: a
+        ghost goes to its family's centre of mass, a family turns active at another level
+        where its ghosts were, a brood of ghost children is made afresh. Each jump packs
+        some active particles closer (or looser) than their densities say, and nothing
+        undoes it: such fluid is heavier than its pressure holds, sinks, and weakens the
+        pressure gradient it lies in. In the refined Table I runs the packing fraction
+        (:func:`packing_fraction`) of the active fluid beside the hull grew from 1.000 at t1
+        to a median of 1.07-1.13 twenty seconds later, the level-0 fluid below the hull to
+        1.07 down to the tank's floor, and the intact ship sank 0.8 m below its
+        uniform-resolution draught (docs/findings.md)."""
+        p, nl = self.parts, self.nlist
+        packing_fraction(p.x, p.z, p.rho, p.m, p.kind, p.comp, p.body, p.hs, self.kp, self.op,
+                         self.kin, nl.start, nl.index, self._phi, self._rho_sum)
+        packing_density(p.x, p.z, p.rho, p.rho_old, p.kind, p.comp, p.body, p.hs, self.kp,
+                        self.op, self.kin, nl.start, nl.index, self._phi, self._rho_sum,
+                        PACK_BULK, PACK_RELAX, self._pack_f)
 
     def _seed_pairs(self, state: dict[str, np.ndarray]) -> list[tuple[int, object]]:
         """``(index in the seed state, object)`` of the stateful objects that take a seed

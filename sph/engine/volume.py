@@ -16,11 +16,10 @@ the loss grows with every jump: a sloshing tank refined in a box under its surfa
 docs/validation/refinement.md). The same tank at one resolution, with particles displaced
 at random, packs the same way.
 
-A kernel sum cannot measure it: it carries the disorder's bias (the defect itself), and
-each level's reads that level's lattice, ghosts included, where the fluid is the union of
-the levels' active particles (a correction of each density towards its level's summation
-density, used before this one, made a still tank's bottom pressure creep 0.25 % high and
-the sloshing tank lose more energy: docs/validation/refinement.md). Every
+The per-level packing correction (:func:`sph.engine.refinement.packing_density`) brings
+each particle's density towards its own level's kernel sum; that sum carries the
+disorder's bias (the defect itself) and reads each level's lattice, ghosts included, where
+the fluid is the union of the levels' active particles. The measure here is neither. Every
 :data:`VOLUME_STRIDE` steps the volumes :math:`m_i/\rho_i` of the active fluid of all
 levels are spread onto a grid of the coarsest spacing: each node takes a particle's volume
 times the node's bilinear hat (two cells wide) averaged over the particle's own square
