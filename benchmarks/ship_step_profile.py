@@ -50,7 +50,7 @@ from sph.engine.particles import Particles
 STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_density",
           "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
           "max_speed_accel", "wall_normals", "listed_with", "ghost_fields", "ghost_diffusion",
-          "cavitation_floor", "packing_fraction", "packing_density",
+          "cavitation_floor", "packing_fraction", "packing_density", "wall_lists",
           "moved_or_outside")
 #: methods of the simulation that hold no timed stage: the refinement's spawning and
 #: merging, the ghosts' sources

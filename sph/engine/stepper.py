@@ -66,6 +66,7 @@ from sph.engine.walls import (
     listed_with,
     place_walls,
     wall_forces,
+    wall_lists,
     wall_normals,
     wall_pressure,
 )
@@ -357,6 +358,9 @@ class Stepper:
         self._wnz = np.zeros(n) if damp else None
         # the fluid particles with a wall in their inner list (listed_with), at each refresh
         self._walled = np.zeros(n, dtype=np.bool_) if damp else None
+        # and the walls of their inner lists (wall_lists), for the wall normals
+        self._wall_start = np.zeros(n + 1, dtype=np.uint64) if damp else None
+        self._wall_index = np.zeros(0, dtype=np.uint32)
         # with the ghosts' density exchange, those with a ghost in it
         self._ghosted = np.zeros(n, dtype=np.bool_) if self._ghost_exchange else None
         need = self.tension == FREE_SURFACE
@@ -394,8 +398,8 @@ class Stepper:
                       self.tension != NONE, self._wall_reach())
         if self._wnx is not None:
             wall_normals(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
-                         self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
-                         self._walled, self._wnx, self._wnz)
+                         self.kin, self._wall_start, self._wall_index, self._walled, self._wnx,
+                         self._wnz)
         if self._surf is not None:
             free_surface(p.x, p.z, p.m, p.rho, p.kind, p.body, p.comp, hs, self.kp, self.op,
                          self.kin, self.nlist.start, self.nlist.inner, self.nlist.inner_end,
@@ -551,6 +555,9 @@ class Stepper:
             nl = self.nlist
             listed_with(self.parts.kind, self.parts.body, nl.start, nl.inner, nl.inner_end,
                         self._walled, self._ghosted)
+        if self._walled is not None:
+            self._wall_index = wall_lists(self.parts.kind, nl.start, nl.inner, nl.inner_end,
+                                          self._walled, self._wall_start, self._wall_index)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget

@@ -20,7 +20,7 @@ from sph.engine.neighbours import CellGrid
 from sph.engine.opening import no_opening
 from sph.engine.particles import FLUID, WALL
 from sph.engine.surface import CLAMP
-from sph.engine.walls import fixed_kinematics, listed_with, wall_normals
+from sph.engine.walls import fixed_kinematics, listed_with, wall_lists, wall_normals
 
 DX = 0.1
 C0 = 30.0
@@ -51,8 +51,17 @@ def _normals(f):
     near = np.zeros(f["n"], dtype=np.bool_)
     listed_with(f["kind"], f["body"], *f["lists"], near, None)
     assert near[f["fluid"]] and near.sum() == 1  # the fluid particle, which has walls
+    wall_start = np.zeros(f["n"] + 1, dtype=np.uint64)
+    walls = wall_lists(f["kind"], *f["lists"], near, wall_start, np.zeros(0, np.uint32))
+    # the walls of the fluid particle's inner list, in its order
+    start, inner, inner_end = f["lists"]
+    i = f["fluid"]
+    own = inner[start[i]:inner_end[i]]
+    np.testing.assert_array_equal(walls[wall_start[i]:wall_start[i + 1]],
+                                  own[f["kind"][own] == WALL])
+    assert wall_start[-1] == wall_start[i + 1] - wall_start[i] > 0
     wall_normals(f["x"], f["z"], f["m"], f["rho"], f["kind"], f["body"], f["comp"], None,
-                 f["kp"], no_opening(), fixed_kinematics(1), *f["lists"], near, nx, nz)
+                 f["kp"], no_opening(), fixed_kinematics(1), wall_start, walls, near, nx, nz)
     return nx, nz
 
 
