@@ -359,8 +359,9 @@ class Stepper:
         # the fluid particles with a wall in their inner list (listed_with), at each refresh
         self._walled = np.zeros(n, dtype=np.bool_) if damp else None
         # and the walls of their inner lists (wall_lists), for the wall normals
-        self._wall_start = np.zeros(n + 1, dtype=np.uint64) if damp else None
-        self._wall_index = np.zeros(0, dtype=np.uint32)
+        self._wall_start = (np.zeros(n + 1, dtype=NeighbourList.DTYPE_START) if damp
+                            else None)
+        self._wall_index = np.zeros(0, dtype=NeighbourList.DTYPE_INDEX)
         # with the ghosts' density exchange, those with a ghost in it
         self._ghosted = np.zeros(n, dtype=np.bool_) if self._ghost_exchange else None
         need = self.tension == FREE_SURFACE
