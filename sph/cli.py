@@ -1,4 +1,5 @@
-"""Command-line interface: ``sph run``, ``sph example``, ``sph cases``.
+"""Command-line interface: ``sph run``, ``sph example``, ``sph cases``, ``sph status``,
+``sph export``.
 
 ``sph run CASE.yaml -o OUT.nc`` keeps checkpoints in ``OUT.nc.ckpt/`` (see
 :mod:`sph.io.checkpoint`) and by default resumes from the newest valid one: running the same
@@ -15,7 +16,14 @@ there. The cases of a sweep that differ in the opening alone share their run to 
 way (the workflow's ``predamage`` runs). A run that has checkpoints of its own resumes from
 them instead.
 
-Exit status:
+``sph export CKPT -o PART.nc`` writes the output of a run up to one of its checkpoints (a
+checkpoint file, or a checkpoint directory: its newest), built from the checkpoint's own
+configuration, its ``status`` saying where the series ends: the run so far of a run that is
+still running, or was stopped, killed or interrupted by a workflow that deleted its partial
+output. It refuses the run's own output path, which ``sph run`` writes. Exit 2 when there is
+no valid checkpoint there, 5 when the file cannot be written.
+
+Exit status of ``sph run``:
 
 == ==================================================================================
 0  done (or stopped at ``run.max_steps``; running again with a larger limit resumes)
@@ -39,13 +47,17 @@ import os
 import sys
 from pathlib import Path
 
+import yaml
+
 from sph import __version__
-from sph.cases import CASES, example_text, load_case
+from sph.cases import CASES, build_case, example_text, load_case
 from sph.driver import RunInterrupted, Simulation, SimulationError
 from sph.io.checkpoint import (
     CheckpointError,
     checkpoint_dir,
     output_of,
+    read_source,
+    restore,
     resume_or_start,
     start_from,
 )
@@ -92,6 +104,13 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("outputs", type=Path, nargs="+", metavar="OUTPUT",
                     help="a run's output path (OUT.nc; it need not exist yet) or a folder "
                     "of them (every *.nc and *.nc.ckpt in it)")
+    exp = sub.add_parser("export", help="write a run's output so far from one of its "
+                         "checkpoints (a run stopped, killed or still running)")
+    exp.add_argument("checkpoint", type=Path, metavar="CKPT",
+                     help="a checkpoint file, or a run's checkpoint directory (OUT.nc.ckpt: "
+                     "its newest valid checkpoint)")
+    exp.add_argument("-o", "--output", type=Path, required=True,
+                     help="netCDF path to write (another path than the run's own output)")
     return ap
 
 
@@ -113,6 +132,8 @@ def main(argv=None) -> int:
         return 0
     if args.command == "status":
         return _status(args.outputs)
+    if args.command == "export":
+        return _export(args.checkpoint, args.output)
     try:
         return _run(args)
     except KeyboardInterrupt:  # before the time loop (while building the particles)
@@ -217,6 +238,43 @@ def _status(paths: list[Path]) -> int:
     if rows:
         print(format_table(rows))
     return 2 if failed else 0
+
+
+def _export(source: Path, out: Path) -> int:
+    """``sph export``: the output of a run up to one of its checkpoints. The case is the
+    checkpoint's own configuration; the output's ``status`` says where the series ends."""
+    try:
+        path, arrays = read_source(source)
+        cfg = build_case(yaml.safe_load(str(arrays["config"])))
+    except (ConfigError, CheckpointError) as exc:
+        print(f"error: cannot export {str(source)!r}: {exc}", file=sys.stderr)
+        return 2
+    if out.exists() and out.is_dir():
+        print(f"error: output path {str(out)!r} is a directory", file=sys.stderr)
+        return 2
+    own = output_of(path.parent)
+    if out.resolve() == own.resolve():
+        print(f"error: {str(out)!r} is the run's own output, which `sph run` writes (and "
+              "which a workflow would take for the finished run); export to another path",
+              file=sys.stderr)
+        return 2
+    sim = Simulation(cfg)
+    try:
+        restore(sim, arrays, path)
+    except (ConfigError, CheckpointError) as exc:
+        print(f"error: cannot export {str(source)!r}: {exc}", file=sys.stderr)
+        return 2
+    sim.status = (f"exported from checkpoint {str(path)!r} at t = {sim.t:.6g} s "
+                  f"(step {sim.step}) of a run to {cfg.run.t_end:g} s")
+    try:
+        _check_writable(out.parent)
+        sim.write(out)
+    except OSError as exc:
+        print(f"error: cannot write {str(out)!r}: {exc.strerror or exc}", file=sys.stderr)
+        return 5
+    logging.getLogger("sph").info("wrote %s: %d samples to t = %.6g s (step %d)", out,
+                                  len(sim.record.time), sim.t, sim.step)
+    return 0
 
 
 def _check_writable(directory: Path) -> None:

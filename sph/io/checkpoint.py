@@ -319,18 +319,28 @@ def start_from(sim, source: str | os.PathLike[str]) -> Path:
     Returns the checkpoint file. Raises :class:`NoCheckpoint` when there is none, and
     :class:`CheckpointError` (unreadable, or not fitting this case) or
     :class:`CheckpointMismatch` as :func:`restore`."""
+    path, arrays = read_source(source, "to start from")
+    restore(sim, arrays, path, seed=True)
+    return path
+
+
+def read_source(source: str | os.PathLike[str], purpose: str = "") -> tuple[Path, dict]:
+    """The checkpoint ``source`` names, as ``(path, arrays)``: the file itself, or the
+    newest valid checkpoint of a checkpoint directory.
+
+    Raises :class:`NoCheckpoint` when there is none (the message says what it was looked
+    for: ``purpose``, e.g. ``"to start from"``) and :class:`CheckpointError` when the file
+    named cannot be read."""
     src = Path(source)
+    what = f"checkpoint {purpose}".strip()
     if src.is_dir():
         found = find_checkpoint(src)
         if found is None:
-            raise NoCheckpoint("", f"no valid checkpoint to start from in {str(src)!r}")
-        path, arrays = found
-    elif src.is_file():
-        path, arrays = src, load_checkpoint(src)
-    else:
-        raise NoCheckpoint("", f"no checkpoint to start from at {str(src)!r}")
-    restore(sim, arrays, path, seed=True)
-    return path
+            raise NoCheckpoint("", f"no valid {what} in {str(src)!r}")
+        return found
+    if src.is_file():
+        return src, load_checkpoint(src)
+    raise NoCheckpoint("", f"no {what} at {str(src)!r}")
 
 
 def resume_or_start(sim, directory: str | os.PathLike[str], mode: str = "auto"):

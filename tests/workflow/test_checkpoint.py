@@ -525,6 +525,41 @@ def test_cli_start_from_another_run(tmp_path, case_file, caplog, capsys):
     assert len(err.strip().splitlines()) == 1
 
 
+def test_cli_export_writes_the_series_so_far_from_a_checkpoint(tmp_path, case_file, capsys):
+    """``sph export`` gives the output a run had at its checkpoint: the same series as the
+    run's own output when it stopped there, and the first samples of the uninterrupted run."""
+    path = case_file("still_water")
+    out = tmp_path / "out.nc"
+    sets = set_options(TINY["still_water"][1])
+    assert main(["run", str(path), "-o", str(out), "--no-progress", *sets,
+                 "--set", "run.max_steps=40"]) == 0
+    part = tmp_path / "part" / "part.nc"
+    assert main(["export", str(checkpoint_dir(out)), "-o", str(part)]) == 0
+    exported = read_dataset(part)
+    assert_same_series(exported, read_dataset(out))
+    n = exported.sizes["time"]
+    ref = _reference("still_water").dataset()
+    assert 1 < n < ref.sizes["time"]
+    assert_same_series(exported, ref.isel(time=slice(0, n)))
+    assert exported.attrs["status"].startswith("exported from checkpoint")
+    assert "step-0000000040.npz" in exported.attrs["status"]
+    # the same from the checkpoint file
+    again = tmp_path / "again.nc"
+    assert main(["export", str(checkpoint_files(checkpoint_dir(out))[-1]), "-o",
+                 str(again)]) == 0
+    assert_same_series(read_dataset(again), exported)
+    capsys.readouterr()
+    # refused, one line each: the run's own output, nothing there, no valid checkpoint
+    assert main(["export", str(checkpoint_dir(out)), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "the run's own output" in err and len(err.strip().splitlines()) == 1
+    assert main(["export", str(tmp_path / "none.nc.ckpt"), "-o", str(again)]) == 2
+    assert "no checkpoint at" in capsys.readouterr().err
+    (tmp_path / "empty.nc.ckpt").mkdir()
+    assert main(["export", str(tmp_path / "empty.nc.ckpt"), "-o", str(again)]) == 2
+    assert "no valid checkpoint in" in capsys.readouterr().err
+
+
 def test_cli_unwritable_output_directory(tmp_path, case_file, capsys, monkeypatch):
     path = case_file("still_water")
     blocker = tmp_path / "file"
