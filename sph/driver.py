@@ -104,7 +104,7 @@ class Simulation(Stepper):
         attrs.update(case=self.cfg.case, title=self.cfg.title, status=self.status,
                      steps=self.step, wall_clock_seconds=round(self.wall_seconds, 3),
                      threads=self.threads, n_fluid=self.n_fluid, n_total=self.parts.n,
-                     lost_particles=self.n_lost,
+                     lost_particles=self.n_lost, guarded_particles=self.n_guarded,
                      speed_of_sound=self.c0, smoothing_length=self.h,
                      kernel=self.cfg.numerics.kernel,
                      density_filter=self.cfg.numerics.density_filter, dx=self.cfg.numerics.dx,

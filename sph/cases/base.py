@@ -75,6 +75,10 @@ class CaseSetup:
     open_boundary : OpenBoundary or None
         Inflow and outflow regions (:class:`sph.engine.openbc.OpenBoundary`), also listed
         in ``events``.
+    tank_guard : array or None
+        The tank's fixed walls for :func:`sph.engine.walls.keep_in_tank`
+        (:func:`sph.engine.walls.tank_guard`): a fluid particle found through them is put
+        back. None: no guard.
     """
 
     particles: Particles
@@ -95,6 +99,7 @@ class CaseSetup:
     probe_comp: int = -1
     force_scale: np.ndarray | None = None
     open_boundary: Any = None
+    tank_guard: np.ndarray | None = None
 
 
 def load_defaults(name: str) -> dict:

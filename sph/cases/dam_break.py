@@ -22,6 +22,7 @@ from sph.cases.base import (
 from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.engine.particles import FLUID
+from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -67,4 +68,5 @@ def setup(cfg: CaseConfig) -> CaseSetup:
 
     return CaseSetup(parts, bounds, g.column_height, diagnostics={"front_position": front},
                      attrs=dict(tank_length=g.tank_length, column_width=g.column_width,
-                                column_height=g.column_height))
+                                column_height=g.column_height),
+                     tank_guard=tank_guard(0.0, g.tank_length, 0.0, g.tank_height, dx, layers))

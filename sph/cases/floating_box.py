@@ -29,6 +29,7 @@ from sph.cases.base import (
 from sph.cases.geometry import fit_cells
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
+from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -128,4 +129,6 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                      diagnostics={"flap_angle": lambda p, time: math.degrees(
                          flap.angle(time)[0])},
                      absorber=absorber_params(g.absorber, g.wavemaker.omega / k, dx),
-                     still_level=g.depth)
+                     still_level=g.depth,
+                     tank_guard=tank_guard(-math.inf, g.tank_length, 0.0, g.tank_height, dx,
+                                           layers))

@@ -66,6 +66,7 @@ from sph.engine.kernels import KP_R2MAX
 from sph.engine.opening import pack_opening, sdf_many, set_circle
 from sph.engine.particles import FLUID
 from sph.engine.probes import surface_heights
+from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 log = logging.getLogger(__name__)
@@ -628,7 +629,10 @@ def setup(cfg: CaseConfig) -> CaseSetup:
                        absorber=absorber_params(g.absorber, omega / k, dx, pitch=pitch,
                                                middle=0.5 * g.tank_length),
                        still_level=g.depth, extra_probes=extra, opening=opening,
-                       probe_comp=0, force_scale=force_scale)
+                       probe_comp=0, force_scale=force_scale,
+                       # the floor (the end walls of several segments' tanks lie apart)
+                       tank_guard=tank_guard(-math.inf, math.inf, 0.0, g.tank_height, dx,
+                                             layers))
     return setup_
 
 

@@ -25,6 +25,7 @@ from sph.cases.base import (
 )
 from sph.engine.absorber import AbsorberConfig, absorber_params
 from sph.engine.config import CaseConfig
+from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -94,7 +95,10 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     return CaseSetup(parts, bounds, g.depth, motions=[motion],
                      diagnostics={"flap_angle": flap_angle}, attrs=attrs,
                      absorber=absorber_params(g.absorber, th["phase_speed"], dx),
-                     still_level=g.depth)
+                     still_level=g.depth,
+                     # the floor and the end wall (the flap is not a fixed wall)
+                     tank_guard=tank_guard(-math.inf, g.tank_length, 0.0, g.tank_height, dx,
+                                           layers))
 
 
 

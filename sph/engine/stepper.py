@@ -63,6 +63,7 @@ from sph.engine.surface import FREE_SURFACE, NONE, WALL_TENSION, free_surface
 from sph.engine.volume import VOLUME_STRIDE, VolumeCorrection
 from sph.engine.walls import (
     fixed_kinematics,
+    keep_in_tank,
     listed_with,
     place_walls,
     wall_forces,
@@ -222,6 +223,9 @@ class Stepper:
         self.n_fluid = int(np.sum(active_fluid(self.parts)))
         #: fluid particles that left the domain and were removed (:meth:`_exclude`)
         self.n_lost = 0
+        #: times a fluid particle found through the tank's fixed walls was put back
+        #: (:meth:`_guard_tank`)
+        self.n_guarded = 0
         fmask = active_fluid(self.parts)
         self.volume0 = float(np.sum(self.parts.m[fmask] / self.parts.rho[fmask]))
         self.record = Record()
@@ -381,6 +385,7 @@ class Stepper:
             place_walls(p.x, p.z, p.vx, p.vz, p.bx, p.bz, p.kind, p.body, self.kin)
         for event in self.setup.events:
             event.apply(self)  # may replace self.parts
+        self._guard_tank()
         self._neighbours()
         p = self.parts
         g = self.grid
@@ -457,9 +462,11 @@ class Stepper:
             p = self.parts
             # the refinement put the ghosts at their families' centres of mass: the events
             # act again (the hull guard puts one found across the plating back on its
-            # side), so that the lists are built at the places the particles keep
+            # side, the tank's guard one found through its floor), so that the lists are
+            # built at the places the particles keep
             for event in self.setup.events:
                 event.apply(self)
+            self._guard_tank()
         if self.open_boundary is not None:
             self.parts = self.open_boundary.rebuild(p)
             if self.parts is not p:
@@ -559,6 +566,23 @@ class Stepper:
         if self._walled is not None:
             self._wall_index = wall_lists(self.parts.kind, nl.start, nl.inner, nl.inner_end,
                                           self._walled, self._wall_start, self._wall_index)
+
+    def _guard_tank(self) -> None:
+        """Put back the fluid particles found through the tank's fixed walls
+        (:func:`sph.engine.walls.keep_in_tank`, the case's ``tank_guard``), and say so
+        the first time and as their count passes each power of ten."""
+        guard = self.setup.tank_guard
+        if guard is None:
+            return
+        p = self.parts
+        n = keep_in_tank(p.x, p.z, p.vx, p.vz, p.vx_old, p.vz_old, p.kind, guard)
+        if n:
+            before = self.n_guarded
+            self.n_guarded += n
+            if before == 0 or len(str(self.n_guarded)) > len(str(before)):
+                log.warning("t = %.6g s (step %d): %d fluid particle(s) found through the "
+                            "tank's fixed walls put back (%d so far): the walls did not hold "
+                            "them", self.t, self.step, n, self.n_guarded)
 
     def _exclude(self) -> None:
         """Remove the fluid particles that left the domain, within the budget
@@ -700,6 +724,7 @@ class Stepper:
         }
         for name, tp in STATE_SCALARS.items():
             out[name] = np.array(tp(getattr(self, name)))
+        out["n_guarded"] = np.array(self.n_guarded)
         rec = self.record
         n = len(rec.time)
         out["record.time"] = np.asarray(rec.time, dtype=np.float64)
@@ -767,6 +792,8 @@ class Stepper:
             self.boxes[:] = state["boxes"]
         for name, tp in STATE_SCALARS.items():
             setattr(self, name, tp(state[name][()]))
+        # (states written before the tank guard have none)
+        self.n_guarded = int(state["n_guarded"][()]) if "n_guarded" in state else 0
         for k, obj in pairs:
             prefix = f"stateful.{k}."
             try:

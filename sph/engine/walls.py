@@ -337,3 +337,66 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, wall_start, wa
         if norm > 0.0:
             nx[i] = sx / norm
             nz[i] = sz / norm
+
+
+# --------------------------------------------------------------------------- the tank guard
+
+#: columns of a tank guard (:func:`tank_guard`, :func:`keep_in_tank`)
+TG_LEFT, TG_RIGHT, TG_FLOOR, TG_TOP, TG_DEPTH, TG_REACH, TG_SIZE = 0, 1, 2, 3, 4, 5, 6
+
+
+def tank_guard(left: float, right: float, floor: float, top: float, dx: float,
+               layers: int) -> np.ndarray:
+    """The guard of a tank's fixed walls for :func:`keep_in_tank`.
+
+    ``left``, ``right``: x of the end walls' surfaces (``-inf``, ``inf`` where an end is not
+    a fixed wall: a wavemaker, an open boundary, another segment's tank); ``floor``: z of
+    the floor's surface; ``top``: the height up to which the end walls reach. The surfaces
+    lie half a spacing in front of the first layer of wall particles. A particle counts as
+    through a wall once it is half a spacing ``dx`` beyond the surface (at the first layer's
+    line, where no fluid particle in contact with the wall gets), and only within the wall's
+    thickness (``layers`` spacings): one beyond that has left the domain."""
+    return np.array([left, right, floor, top, 0.5 * dx, layers * dx], dtype=np.float64)
+
+
+@njit(**JIT)
+def keep_in_tank(x, z, vx, vz, vx_old, vz_old, kind, guard) -> int:
+    """Put back a fluid particle, active or ghost, found through the tank's fixed walls.
+
+    The walls hold the fluid by the pressure of their particles alone. Where that fails (a
+    particle that changes level beside the floor under variable resolution is driven into
+    it while active, sinks on as a ghost, which feels no wall, and turns active below the
+    floor at a density below rho0, where the walls do not push: docs/validation/
+    refinement.md, "A sloshing tank") the particle would fall out of the domain. One found
+    more than ``guard[TG_DEPTH]`` beyond the floor (between the end walls) or an end wall
+    (below ``guard[TG_TOP]``), but within the wall's thickness, is put at its mirror image
+    across the wall's surface and the velocity that carried it into the wall is removed,
+    at both leapfrog levels: the hull's guard for the tank (:func:`sph.engine.opening.
+    keep_sides`). A particle in contact with a wall is never that far in, so a run whose
+    walls hold its fluid is unchanged to the bit. Returns how many were put back."""
+    left, right, floor, top = guard[TG_LEFT], guard[TG_RIGHT], guard[TG_FLOOR], guard[TG_TOP]
+    depth, reach = guard[TG_DEPTH], guard[TG_REACH]
+    n = 0
+    for i in range(x.shape[0]):
+        if kind[i] != FLUID:
+            continue
+        if z[i] < top:  # the end walls first: a particle through a corner is then between them
+            d = left - x[i]
+            if depth < d <= reach:
+                x[i] = left + d
+                vx[i] = max(vx[i], 0.0)
+                vx_old[i] = max(vx_old[i], 0.0)
+                n += 1
+            d = x[i] - right
+            if depth < d <= reach:
+                x[i] = right - d
+                vx[i] = min(vx[i], 0.0)
+                vx_old[i] = min(vx_old[i], 0.0)
+                n += 1
+        d = floor - z[i]
+        if depth < d <= reach and left < x[i] < right:
+            z[i] = floor + d
+            vz[i] = max(vz[i], 0.0)
+            vz_old[i] = max(vz_old[i], 0.0)
+            n += 1
+    return n
