@@ -342,7 +342,7 @@ def wall_normals(x, z, m, rho, kind, body, comp, hs, kp, op, kin, wall_start, wa
 # --------------------------------------------------------------------------- the tank guard
 
 #: columns of a tank guard (:func:`tank_guard`, :func:`keep_in_tank`)
-TG_LEFT, TG_RIGHT, TG_FLOOR, TG_TOP, TG_DEPTH, TG_REACH, TG_SIZE = 0, 1, 2, 3, 4, 5, 6
+TG_LEFT, TG_RIGHT, TG_FLOOR, TG_TOP, TG_DEPTH, TG_REACH = 0, 1, 2, 3, 4, 5
 
 
 def tank_guard(left: float, right: float, floor: float, top: float, dx: float,
