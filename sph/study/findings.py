@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -94,14 +94,28 @@ class Finding:
     paper: str
     measured: str
     holds: bool | None  # None: not determinable from this sweep
+    #: the verdicts on the first and the second half of the window after t2
+    #: (:func:`compute_findings`); None for a finding not read after t2 or not determinable
+    halves: tuple[str, str] | None = None
 
     @property
     def verdict(self) -> str:
-        return {True: "holds", False: "does not hold", None: "not determinable"}[self.holds]
+        return _VERDICT[self.holds]
+
+    @property
+    def halves_text(self) -> str:
+        """``"holds / does not hold"``: the verdicts on the window's halves (empty where
+        the finding is not read after t2)."""
+        return " / ".join(self.halves) if self.halves else ""
 
     def as_dict(self) -> dict:
+        first, second = self.halves or ("", "")
         return dict(id=self.id, statement=self.statement, paper=self.paper,
-                    measured=self.measured, verdict=self.verdict)
+                    measured=self.measured, verdict=self.verdict, first_half=first,
+                    second_half=second)
+
+
+_VERDICT = {True: "holds", False: "does not hold", None: "not determinable"}
 
 
 # ------------------------------------------------------------------------------ measures
@@ -854,7 +868,8 @@ def zone_note(s: _Sweep, case: str) -> str:
             f"t/T = {t / s.period:.3g} (sway {sway:+.3g} m)")
 
 
-def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
+def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
+                     halves: bool = True) -> list[Finding]:
     """Measure every finding of :data:`FINDINGS` on the gathered dataset ``ds``.
 
     Parameters
@@ -876,7 +891,40 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float)
     where the first of its cases' hulls reaches one), a case that capsized
     (:func:`capsize_note`) or a case whose run stopped before the end of the window
     (``case_status``, :func:`stop_note`: a run that blew up).
+
+    ``halves``: each finding read after t2 is also judged on each half of its window, from
+    t2 to the middle between t2 and the runs' end and from there on (``Finding.halves``,
+    :func:`half_verdicts`). A verdict that differs between the halves is decided by where
+    the window ends more than by the ship's equilibrium: the oscillations have not settled,
+    or the measure's margin is within their scatter.
     """
+    found = _compute(ds, groups, t2_periods)
+    if not halves:
+        return found
+    split = half_verdicts(ds, groups, t2_periods)
+    return [f if f.holds is None else replace(f, halves=split.get(f.id)) for f in found]
+
+
+def half_verdicts(ds, groups: Mapping[str, Sequence[str]], t2_periods: float
+                  ) -> dict[str, tuple[str, str]]:
+    """The verdict of each finding read after t2 on the first and on the second half of the
+    window after t2: the runs cut at the middle ``tm`` between t2 and their end, and t2 moved
+    to ``tm`` (a finding's window also ends where a hull reaches an absorbing zone, so a
+    half may be not determinable where the whole window is not). By finding id; findings
+    not read after t2 are left out."""
+    period = float(ds.attrs["wave_period"])
+    end = float(ds["time"].values[-1]) / period
+    mid = t2_periods + 0.5 * (end - t2_periods)
+    first = _compute(ds.sel(time=slice(None, mid * period * (1 + 1e-12))), groups,
+                     t2_periods)
+    second = _compute(ds, groups, mid)
+    steady = {f.id for f in FINDINGS if f.steady}
+    return {a.id: (a.verdict, b.verdict) for a, b in zip(first, second, strict=True)
+            if a.id in steady}
+
+
+def _compute(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
+    """:func:`compute_findings` on one window."""
     s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
     sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
@@ -986,6 +1034,9 @@ def findings_table(findings: Sequence[Finding]) -> list[dict]:
     return [f.as_dict() for f in findings]
 
 
+#: the heading of the column of :attr:`Finding.halves_text`
+HALVES_HEADING = "first / second half of the window after t2"
+
 _VERDICT_COLOUR = {"holds": "#d9f2d9", "does not hold": "#f8d7d7",
                    "not determinable": "#eeeeee"}
 
@@ -999,16 +1050,18 @@ def _summary(findings: Sequence[Finding]) -> str:
 def findings_markdown(findings: Sequence[Finding], title: str, note: str = "") -> str:
     """The findings table as Markdown, to paste into a report or a page of notes: a heading,
     the note, the counts and one row per finding (id, the paper's finding, where the paper
-    states it, what the run measured, the verdict)."""
+    states it, what the run measured, the verdict, the verdicts on the halves of the window
+    after t2)."""
 
     def cell(text: str) -> str:
         return " ".join(str(text).split()).replace("|", "\\|")
 
     rows = [f"| {' | '.join(cell(x) for x in (f.id, f.statement, f.paper, f.measured))} "
-            f"| {f.verdict} |" for f in findings]
+            f"| {f.verdict} | {f.halves_text} |" for f in findings]
     return "\n".join([f"# {cell(title)}", "", cell(note), "", _summary(findings) + ".", "",
-                      "| id | finding of the paper | where | measured in this run | verdict |",
-                      "| --- | --- | --- | --- | --- |", *rows, ""])
+                      "| id | finding of the paper | where | measured in this run | verdict "
+                      f"| {HALVES_HEADING} |",
+                      "| --- | --- | --- | --- | --- | --- |", *rows, ""])
 
 
 def findings_html(findings: Sequence[Finding], title: str, note: str = "") -> str:
@@ -1020,7 +1073,8 @@ def findings_html(findings: Sequence[Finding], title: str, note: str = "") -> st
         rows.append(
             "<tr>" + "".join(f"<td>{html.escape(x)}</td>" for x in
                              (f.id, f.statement, f.paper, f.measured))
-            + f'<td style="background:{_VERDICT_COLOUR[f.verdict]}">{f.verdict}</td></tr>')
+            + f'<td style="background:{_VERDICT_COLOUR[f.verdict]}">{f.verdict}</td>'
+            f"<td>{html.escape(f.halves_text)}</td></tr>")
     summary = _summary(findings)
     return (
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>"
@@ -1029,5 +1083,5 @@ def findings_html(findings: Sequence[Finding], title: str, note: str = "") -> st
         "vertical-align:top}th{background:#ddd}</style></head><body>"
         f"<h2>{html.escape(title)}</h2><p>{html.escape(note)}</p><p>{summary}.</p>"
         "<table><tr><th>id</th><th>finding of the paper</th><th>where</th>"
-        "<th>measured in this run</th><th>verdict</th></tr>"
+        f"<th>measured in this run</th><th>verdict</th><th>{HALVES_HEADING}</th></tr>"
         + "\n".join(rows) + "</table></body></html>\n")

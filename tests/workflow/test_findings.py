@@ -34,14 +34,14 @@ T2 = 7 * T  # the t2 of the tests (compute_findings(..., 7.0))
 
 def _sweep(params: dict, t_end: float = 12 * T, cases=CASES):
     """A sweep dataset whose series follow ``params[case]``: roll amplitude after t2
-    (``roll``) and its second harmonic (``roll2``, relative), a heel between t1 and t2
-    (``kick``: a 1 s pulse), heave mean (``sink``, reached over about T/2 after t1),
-    amplitude (``heave``) and frequency between t1 and t2 (``heave_w``; damaged cases
-    default to 0.9), flood volume final level (``q``), first-peak overshoot (``peak``,
-    decaying over a period), initial inflow rate (``rate``), fluctuation (``fluct``), W1
-    and W2 amplitudes (``w1``, ``w2``), the phase of W2 against W1 (``phase``), W2's
-    second harmonic (``h2``) and W1's component at the 75 % cabin's sloshing frequency
-    1.26 (``beat``), both relative."""
+    (``roll``; ``roll_late`` from ``switch`` on) and its second harmonic (``roll2``,
+    relative), a heel between t1 and t2 (``kick``: a 1 s pulse), heave mean (``sink``,
+    reached over about T/2 after t1), amplitude (``heave``) and frequency between t1 and
+    t2 (``heave_w``; damaged cases default to 0.9), flood volume final level (``q``),
+    first-peak overshoot (``peak``, decaying over a period), initial inflow rate
+    (``rate``), fluctuation (``fluct``), W1 and W2 amplitudes (``w1``, ``w2``), the phase
+    of W2 against W1 (``phase``), W2's second harmonic (``h2``) and W1's component at the
+    75 % cabin's sloshing frequency 1.26 (``beat``), both relative."""
     dt = 0.05
     t = np.arange(0.0, t_end + 1e-9, dt)
     after = t >= T1
@@ -49,7 +49,9 @@ def _sweep(params: dict, t_end: float = 12 * T, cases=CASES):
     for c in cases:
         p = params[c["case"]]
         w = np.sin(t)
-        roll = p["roll"] * (w + p.get("roll2", 0.0) * np.sin(2 * t))
+        # (the roll amplitude changes to ``roll_late`` at ``switch``)
+        amp = np.where(t >= p.get("switch", np.inf), p.get("roll_late", p["roll"]), p["roll"])
+        roll = amp * (w + p.get("roll2", 0.0) * np.sin(2 * t))
         roll[after & (t < T1 + 1.0)] += p.get("kick", 0.0)
         hw = np.where(after & (t < T2), p.get("heave_w", 0.9 if c["opening"] > 0 else 1.0),
                       1.0)
@@ -318,7 +320,8 @@ def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     assert stopped in page and stopped in md.read_text()
     rows = csv.read_text().splitlines()
     f6 = next(r for r in rows if r.startswith("F6,"))
-    assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable")
+    # (no verdicts on the halves of a window it could not be read over)
+    assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable,,")
 
 
 def test_figures_name_a_run_that_stopped(tmp_path, figure_script):
@@ -435,10 +438,36 @@ def test_markdown_table_lists_every_finding_as_the_html_page():
     assert lines[:3] == ["# demo", "", "note"] and "17 holds" in text
     rows = [ln for ln in lines if ln.startswith("| F")]
     assert [r.split(" | ")[0][2:] for r in rows] == [f.id for f in out]
-    assert all(len(re.split(r"(?<!\\)\|", r)) == 7 for r in rows)  # 5 cells
+    assert all(len(re.split(r"(?<!\\)\|", r)) == 8 for r in rows)  # 6 cells
     assert "a \\| b c" in rows[0]
     for f, r in zip(out[1:], rows[1:], strict=True):
-        assert r == f"| {f.id} | {f.statement} | {f.paper} | {f.measured} | {f.verdict} |"
+        assert r == (f"| {f.id} | {f.statement} | {f.paper} | {f.measured} | {f.verdict} "
+                     f"| {f.halves_text} |")
+    assert rows[0].endswith("| holds | holds / holds |")  # F1, read after t2
+    assert rows[1].endswith("| holds |  |")  # F2, the first peak: no halves
+
+
+def test_each_half_of_the_window_after_t2_is_judged_apart():
+    """A damaged ship that rolls more than the intact one until the middle of the window
+    after t2 and less after it: F1 holds on the whole window, and its halves say that the
+    verdict turns on where the window ends. Findings not read after t2 have no halves."""
+    p = _paper_like()
+    mid = 0.5 * (7 + 12) * T
+    p["case3"] = dict(p["case3"], roll=11.0, roll_late=2.0, switch=mid)
+    out = {f.id: f for f in findings.compute_findings(_sweep(p), GROUPS, 7.0)}
+    assert out["F1"].halves == ("does not hold", "holds")
+    assert out["F1"].as_dict()["first_half"] == "does not hold"
+    # back (case3) against head (case5, roll 4): larger in the first half alone
+    assert out["F6"].halves == ("holds", "does not hold")
+    assert out["F3"].halves == ("holds", "holds")  # the heaves do not change
+    assert out["F2"].halves is None and out["F7"].halves is None
+    assert out["F14"].halves is None  # not in Table I: not determinable, no halves
+    assert findings.half_verdicts(_sweep(_paper_like()), GROUPS, 7.0)["F1"] == ("holds",
+                                                                              "holds")
+    # without them: the whole window alone
+    plain = findings.compute_findings(_sweep(p), GROUPS, 7.0, halves=False)
+    assert all(f.halves is None for f in plain)
+    assert [f.holds for f in plain] == [f.holds for f in out.values()]
 
 
 # Fig. 10: the reference opening in still water and at three wave amplitudes (A / d)
