@@ -51,7 +51,7 @@ STAGES = ("fluid_pressures", "wall_pressure", "interact", "wall_forces", "mls_de
           "renormalised_density_gradient", "verlet_update", "apply_shift", "place_walls",
           "max_speed_accel", "wall_normals", "listed_with", "ghost_fields", "ghost_diffusion",
           "cavitation_floor", "packing_fraction", "packing_density", "wall_lists",
-          "moved_or_outside")
+          "moved_or_outside", "keep_in_tank")
 #: methods of the simulation that hold no timed stage: the refinement's spawning and
 #: merging, the ghosts' sources
 METHODS = ("_refine", "_mark_ghosts")
