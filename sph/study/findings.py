@@ -1018,6 +1018,26 @@ def fast_runs(ds, period: float) -> list[str]:
     return out
 
 
+def particle_losses(ds) -> list[str] | None:
+    """The runs of a sweep dataset that lost fluid particles out of the domain
+    (``lost_particles``) or had some put back by the tank's guard (``guarded_particles``,
+    :func:`sph.engine.walls.keep_in_tank`), one line per run; None where the dataset does
+    not say (runs written before the counts were gathered)."""
+    if "lost_particles" not in ds.data_vars:
+        return None
+    guarded = (ds["guarded_particles"].values if "guarded_particles" in ds.data_vars
+               else np.zeros(ds.sizes["case"]))
+    out = []
+    for c, lost, back in zip(map(str, ds["case"].values), ds["lost_particles"].values,
+                             guarded, strict=True):
+        parts = [f"{int(v)} {what}" for v, what in ((lost, "lost"),
+                                                    (back, "put back by the tank's guard"))
+                 if np.isfinite(v) and v > 0]
+        if parts:
+            out.append(f"{c}: " + ", ".join(parts))
+    return out
+
+
 def zone_entries(ds, period: float) -> list[str]:
     """The runs of a sweep dataset whose hull reached an absorbing zone, one line per run:
     when (in wave periods ``period``) and at which sway."""

@@ -792,7 +792,7 @@ def groups(cases: Sequence[Mapping], reference: Mapping) -> dict[str, list[str]]
 # ------------------------------------------------------------------------------ gather
 #: per-run global attributes kept as variables along ``case`` in the sweep dataset
 CASE_SCALARS = ("wall_clock_seconds", "steps", "n_total", "particle_steps_per_second",
-                "wave_period", "damage_time")
+                "wave_period", "damage_time", "lost_particles", "guarded_particles")
 #: global attributes that must agree between the runs of a sweep (kept as global attributes)
 SHARED_ATTRS = ("wave_period", "damage_time", "omega", "dx", "draught", "breadth",
                 "hull_depth", "cabin_area", "depth", "kernel", "density_filter",

@@ -585,3 +585,34 @@ def test_runs_with_particles_beyond_weak_compressibility_are_named():
     assert findings.fast_runs(ds, T) == [
         f"case6: faster than c0/10 = 17.2 m/s in {100 * share:.2g} % of its samples after "
         "t1, first at t/T = 4, at most 40 m/s"]
+
+
+def test_runs_whose_fluid_went_through_the_walls_are_named(tmp_path, figure_script):
+    """A run that lost particles or had some put back by the tank's guard is named with
+    both counts on the findings page; runs with none are not, and a page whose runs all
+    kept their fluid says so. A dataset without the counts (older runs) names nothing."""
+    load, _ = figure_script
+
+    def page(ds, name):
+        nc = tmp_path / f"{name}.nc"
+        ds.to_netcdf(nc)
+        csv, html, md = (tmp_path / f"{name}.{e}" for e in ("csv", "html", "md"))
+        load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md))
+        return md.read_text()
+
+    ds = _sweep(_paper_like())
+    assert findings.particle_losses(ds) is None
+    assert "put back" not in page(ds, "older")
+    n = ds.sizes["case"]
+    ds["lost_particles"] = ("case", np.zeros(n))
+    ds["guarded_particles"] = ("case", np.zeros(n))
+    assert findings.particle_losses(ds) == []
+    assert "No run lost a fluid particle or had one put back through a wall." in page(ds, "none")
+    for case, lost, back in (("case6", 2, 0), ("case7", 0, 7), ("case8", 3, 12)):
+        ds["lost_particles"].loc[dict(case=case)] = lost
+        ds["guarded_particles"].loc[dict(case=case)] = back
+    named = ["case6: 2 lost", "case7: 7 put back by the tank's guard",
+             "case8: 3 lost, 12 put back by the tank's guard"]
+    assert findings.particle_losses(ds) == named
+    text = page(ds, "some")
+    assert all(line in text for line in named)

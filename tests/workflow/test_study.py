@@ -298,7 +298,7 @@ def _run_file(path, case, t_end=1.0, dt_out=0.1, jitter=0.0, status="completed",
         probes={"probe_elevation": (["WP1", "W2"], np.vstack([t, 2 * t]))},
         attrs=dict(case="damaged_ship", status=status, wave_period=6.28, damage_time=2.0,
                    dx=0.8, speed_of_sound=171.6, wall_clock_seconds=12.5, steps=100,
-                   n_total=1000,
+                   n_total=1000, lost_particles=0, guarded_particles=seed,
                    particle_steps_per_second=8000.0, opening=case["opening"],
                    cargo_density=850.0 if case["fill"] > 0.0 else 1000.0),
         config_yaml=yaml.safe_dump({"run": {"t_end": t_end, "output_interval": dt_out},
@@ -338,6 +338,8 @@ def test_gather_builds_a_case_dimension(tmp_path):
     assert ds.attrs["speed_of_sound"] == 171.6  # shared: fast_runs measures against it
     assert ds.attrs["source"].startswith("sph-flood")
     assert ds["wall_clock_seconds"].values.tolist() == [12.5, 12.5]
+    assert ds["guarded_particles"].values.tolist() == [0, 1]  # each run's count
+    assert ds["lost_particles"].attrs["long_name"].startswith("fluid particles")
     out = tmp_path / "sweep.nc"
     write_netcdf_atomic(ds, out)
     import xarray as xr

@@ -16,6 +16,7 @@ from sph.study.findings import (
     findings_html,
     findings_markdown,
     findings_table,
+    particle_losses,
     stopped_runs,
     zone_entries,
 )
@@ -50,6 +51,13 @@ def main(nc, groups, t2_periods, title, out_csv, out_html, out_md) -> None:
         note += (" Runs in which some particle outran a tenth of the speed of sound after "
                  "the damage (spray beyond weak compressibility; read their findings with "
                  "care): " + "; ".join(fast) + ".")
+    losses = particle_losses(ds)
+    if losses:
+        note += (" Runs whose fluid went through the walls (particles that left the domain "
+                 "are removed; those found just through a fixed tank wall are put back): "
+                 + "; ".join(losses) + ".")
+    elif losses is not None:
+        note += " No run lost a fluid particle or had one put back through a wall."
     drifted = zone_entries(ds, period)
     if drifted:
         note += (" Runs whose hull drifted into the absorbing zone (the findings that read "
@@ -67,6 +75,8 @@ def main(nc, groups, t2_periods, title, out_csv, out_html, out_md) -> None:
         logging.getLogger("findings").warning("stopped early: %s", line)
     for line in fast:
         logging.getLogger("findings").warning("fast particles: %s", line)
+    for line in losses or []:
+        logging.getLogger("findings").warning("particles through the walls: %s", line)
     for line in drifted:
         logging.getLogger("findings").info("hull in the absorbing zone: %s", line)
 
