@@ -912,6 +912,8 @@ def half_verdicts(ds, groups: Mapping[str, Sequence[str]], t2_periods: float
     to ``tm`` (a finding's window also ends where a hull reaches an absorbing zone, so a
     half may be not determinable where the whole window is not). By finding id; findings
     not read after t2 are left out."""
+    # the findings' cases at their one wave (a sweep over wave frequency has several)
+    ds = one_wave(ds, sorted({c for g in groups.values() for c in g}))
     period = float(ds.attrs["wave_period"])
     end = float(ds["time"].values[-1]) / period
     mid = t2_periods + 0.5 * (end - t2_periods)

@@ -616,3 +616,15 @@ def test_runs_whose_fluid_went_through_the_walls_are_named(tmp_path, figure_scri
     assert findings.particle_losses(ds) == named
     text = page(ds, "some")
     assert all(line in text for line in named)
+
+
+def test_halves_read_the_wave_period_of_the_findings_cases():
+    """In a sweep over wave frequency the wave period and damage time are variables along
+    ``case``, not global attributes: the halves are read at the findings' own wave, as the
+    whole window is."""
+    ds = _sweep(_paper_like())
+    ds["wave_period"] = ("case", np.full(ds.sizes["case"], T))
+    ds["damage_time"] = ("case", np.full(ds.sizes["case"], T1))
+    ds.attrs = {}
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0)}
+    assert out["F1"].holds is True and out["F1"].halves == ("holds", "holds")
