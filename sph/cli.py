@@ -152,8 +152,7 @@ def _run(args) -> int:
         print(f"error: invalid case {str(args.case_file)!r}: {exc}", file=sys.stderr)
         return 2
     out = args.output
-    if out.exists() and out.is_dir():
-        print(f"error: output path {str(out)!r} is a directory", file=sys.stderr)
+    if _is_directory(out):
         return 2
     try:
         sim = Simulation(cfg)
@@ -249,8 +248,7 @@ def _export(source: Path, out: Path) -> int:
     except (ConfigError, CheckpointError) as exc:
         print(f"error: cannot export {str(source)!r}: {exc}", file=sys.stderr)
         return 2
-    if out.exists() and out.is_dir():
-        print(f"error: output path {str(out)!r} is a directory", file=sys.stderr)
+    if _is_directory(out):
         return 2
     own = output_of(path.parent)
     if out.resolve() == own.resolve():
@@ -275,6 +273,14 @@ def _export(source: Path, out: Path) -> int:
     logging.getLogger("sph").info("wrote %s: %d samples to t = %.6g s (step %d)", out,
                                   len(sim.record.time), sim.t, sim.step)
     return 0
+
+
+def _is_directory(out: Path) -> bool:
+    """Whether the output path ``out`` is a directory (and say so)."""
+    if out.exists() and out.is_dir():
+        print(f"error: output path {str(out)!r} is a directory", file=sys.stderr)
+        return True
+    return False
 
 
 def _check_writable(directory: Path) -> None:

@@ -22,7 +22,6 @@ from sph.cases.base import (
 from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.engine.particles import FLUID
-from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -69,4 +68,4 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     return CaseSetup(parts, bounds, g.column_height, diagnostics={"front_position": front},
                      attrs=dict(tank_length=g.tank_length, column_width=g.column_width,
                                 column_height=g.column_height),
-                     tank_guard=tank_guard(0.0, g.tank_length, 0.0, g.tank_height, dx, layers))
+                     tank_guard=tank.guard(g.tank_height, dx, layers))

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sph.engine.walls import tank_guard
+
 
 def lattice(x0: float, x1: float, z0: float, z1: float, dx: float) -> np.ndarray:
     """Cell-centred lattice points of spacing ``dx`` filling ``[x0, x1] x [z0, z1]``."""
@@ -66,6 +68,14 @@ class RoundedTank:
                 corner = side & (z < cz)
                 out = np.where(corner, np.hypot(x - cx, z - cz) - r, out)
         return out
+
+    def guard(self, top: float, dx: float, n_layers: int) -> np.ndarray | None:
+        """The tank's guard (:func:`sph.engine.walls.tank_guard`): its floor and both side
+        walls up to ``top``; None for a rounded tank, whose bilges are not the guard's
+        flat walls."""
+        if self.radius > 0.0:
+            return None
+        return tank_guard(self.x0, self.x0 + self.width, self.z0, top, dx, n_layers)
 
 
 def tank_particles(tank: RoundedTank, dx: float, n_layers: int, wall_top: float,

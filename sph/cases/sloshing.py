@@ -38,7 +38,6 @@ from sph.cases.base import (
 from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
 from sph.engine.particles import FLUID
-from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -86,10 +85,8 @@ def _sloshing_setup(cfg: CaseConfig, tank: RoundedTank, height: float, fill: flo
     attrs = dict(tank_width=width, tank_height=height, fill=fill, depth=depth,
                  amplitude=amplitude, init=init,
                  linear_frequency_rect=linear_frequency(width, depth, cfg.fluid.gravity))
-    # the U-shaped tank's bilges are not the guard's flat walls: it has none
-    guard = (tank_guard(tank.x0, tank.x0 + width, tank.z0, wall_top, dx, layers)
-             if tank.radius == 0.0 else None)
-    return CaseSetup(parts, bounds, depth, diagnostics=diags, attrs=attrs, tank_guard=guard)
+    return CaseSetup(parts, bounds, depth, diagnostics=diags, attrs=attrs,
+                     tank_guard=tank.guard(wall_top, dx, layers))
 
 
 def _check_common(cfg: CaseConfig, width: float, height: float) -> None:

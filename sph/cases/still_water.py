@@ -14,7 +14,6 @@ from sph.cases.base import (
 )
 from sph.cases.geometry import RoundedTank, tank_particles
 from sph.engine.config import CaseConfig
-from sph.engine.walls import tank_guard
 from sph.schema import ConfigError, spec
 
 
@@ -53,4 +52,4 @@ def setup(cfg: CaseConfig) -> CaseSetup:
     bounds = (-t, g.tank_length + t, -t, g.tank_height + 0.5 * g.tank_height)
     return CaseSetup(parts, bounds, g.depth,
                      attrs=dict(tank_length=g.tank_length, depth=g.depth),
-                     tank_guard=tank_guard(0.0, g.tank_length, 0.0, g.tank_height, dx, layers))
+                     tank_guard=tank.guard(g.tank_height, dx, layers))
