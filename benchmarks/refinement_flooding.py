@@ -8,6 +8,7 @@ with ``geometry.refine_hull = 1`` (``refined``: 0.4 m around the hull, ``--margi
 beyond it).
 
     python benchmarks/refinement_flooding.py run --mode refined --out DIR [--t-end 30]
+        [--rise R]
     python benchmarks/refinement_flooding.py report DIR
 
 ``report`` compares the flooded fraction of the cabin Q / V (``flood_ratio``), the heave
@@ -42,6 +43,7 @@ import numpy as np
 import xarray as xr
 from compare import run_report_main
 
+import sph.engine.refinement as refinement
 from sph.cases import builtin
 from sph.driver import Simulation
 from sph.study.findings import oscillation
@@ -73,6 +75,8 @@ def case(mode: str, t_end: float, threads: int, margin: float = 4.0):
 def run(args) -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.rise is not None:
+        refinement.RISE = args.rise  # read at every rebuild of the lists
     sim = Simulation(case(args.mode, args.t_end, args.threads, args.margin))
     t0 = time.perf_counter()
     sim.run(out / f"flood_{args.mode}.nc")
@@ -149,6 +153,9 @@ def _run_args(parser) -> None:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--margin", type=float, default=4.0,
                         help="geometry.refine_margin of the refined run (m)")
+    parser.add_argument("--rise", type=float, default=None,
+                        help="sph.engine.refinement.RISE for this run (spacings of the "
+                             "box's level inside its edge at which a family rises)")
 
 
 def main() -> None:

@@ -12,15 +12,17 @@ change level twice a period. Modes:
 - ``surface``: a level-1 box x in [8, 16] m through the free surface, as a ship's box.
 
     python benchmarks/refinement_sloshing.py run --mode deep --out DIR [--t-end 60]
-        [--hysteresis 0.5] [--jitter 0.25] [--density-filter none] [--max-lost 0.02]
+        [--hysteresis 0.5] [--rise 3] [--jitter 0.25] [--density-filter none] [--max-lost 0.02]
     python benchmarks/refinement_sloshing.py report DIR
 
 A refined run takes one to one and a half minutes on one core, the fine one about a minute,
 the coarse one 9 s (60 s simulated, beside a second run). ``run`` records every 0.05 s the
 kinetic energy KE and the potential energy PE of the fluid that carries the mass (ghosts
-excluded) and writes ``DIR/slosh_<mode>[_h<H>][_j<A>][_<filter>][_lost<F>].json``;
+excluded) and writes ``DIR/slosh_<mode>[_h<H>][_rise<R>][_j<A>][_<filter>][_lost<F>].json``;
 ``--hysteresis`` sets :data:`sph.engine.refinement.HYSTERESIS` (the coarse spacings past a
-box's edge at which a family changes level) for the run. ``--jitter A``: every
+box's edge at which a family changes level) for the run, ``--rise``
+:data:`sph.engine.refinement.RISE` (the spacings of the box's level inside its edge at
+which a family rises to it). ``--jitter A``: every
 ``JITTER_EVERY`` s, a share ``JITTER_SHARE`` of the mass-carrying particles beneath the
 surface and away from the walls, drawn at random (a fixed seed), is displaced by up to A
 of its spacing in x and z: the disorder a change of level leaves in the lattice, put into
@@ -129,12 +131,15 @@ def run(args) -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     name = "_".join([args.mode] + [f"{k}{v:g}" if isinstance(v, float) else f"{k}{v}"
-                                   for k, v in (("h", args.hysteresis), ("j", args.jitter),
+                                   for k, v in (("h", args.hysteresis), ("rise", args.rise),
+                                                ("j", args.jitter),
                                                 ("", args.density_filter),
                                                 ("lost", args.max_lost))
                                    if v not in (None, "none")])
     if args.hysteresis is not None:
         refinement.HYSTERESIS = args.hysteresis  # read at every rebuild of the lists
+    if args.rise is not None:
+        refinement.RISE = args.rise
     sim = Simulation(case(args.mode, args.t_end, args.threads, args.density_filter,
                           args.max_lost))
     t0 = time.perf_counter()
@@ -180,6 +185,9 @@ def _run_args(parser) -> None:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--hysteresis", type=float, default=None,
                         help="sph.engine.refinement.HYSTERESIS for this run (coarse spacings)")
+    parser.add_argument("--rise", type=float, default=None,
+                        help="sph.engine.refinement.RISE for this run (spacings of the "
+                             "box's level inside its edge at which a family rises)")
     parser.add_argument("--jitter", type=float, default=None,
                         help="displace particles at random by up to this many spacings")
     parser.add_argument("--density-filter", default="none",

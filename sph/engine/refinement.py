@@ -116,6 +116,9 @@ STRAY = 1.8
 #: a family changes level once its level-0 particle is this many spacings of the box's
 #: level past the box's edge (:func:`_family_levels`)
 HYSTERESIS = 0.5
+#: a family rises to a finer level only once its level-0 particle is this many spacings of
+#: the box's level inside the box's edge (None: :data:`HYSTERESIS`)
+RISE = None
 #: a brood of ghost children (its family active at a coarser level) is made afresh once one
 #: of them is farther than this many of its mother's spacings from her (:func:`assign`):
 #: born within 0.36 of them, it then no longer tiles her cell. In the refined Table I run
@@ -294,7 +297,8 @@ def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: n
     level."""
     n = parts.n
     r = np.nonzero(fluid & (own == 0))[0]  # the families' level-0 particles
-    inner = levels_at(parts.x[r], parts.z[r], boxes, -HYSTERESIS * dx)
+    rise = HYSTERESIS if RISE is None else RISE
+    inner = levels_at(parts.x[r], parts.z[r], boxes, -rise * dx)
     outer = levels_at(parts.x[r], parts.z[r], boxes, HYSTERESIS * dx)
     out = np.zeros(n, dtype=np.int32)
     out[r] = levels_at(parts.x[r], parts.z[r], boxes, 0.0)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from physics_helpers import sort_by_cells
 
+import sph.engine.refinement as refinement
 from sph.cases import builtin
 from sph.driver import Simulation, SimulationError
 from sph.engine.fluid import interact, interact_reference, pair_work
@@ -173,11 +174,15 @@ def _family_momentum(q, pid):
                                      for c in ("vx", "vz", "vx_old", "vz_old"))])
 
 
-def test_a_family_crossing_into_a_box_hands_its_momentum_to_its_children():
+@pytest.mark.parametrize("rise", [None, 3.0])
+def test_a_family_crossing_into_a_box_hands_its_momentum_to_its_children(monkeypatch, rise):
     """A coarse particle entering a box: its children, ghosts until then with velocities
     fitted from the flow around them, turn active with a common change of velocity that
     gives them its momentum exactly, at both leapfrog levels (the issue's "momentum
-    conserved to round-off in every split and merge")."""
+    conserved to round-off in every split and merge"); not before its level-0 particle is
+    ``RISE`` fine spacings inside the box (3: a family half of that inside, six times the
+    hysteresis, stays coarse)."""
+    monkeypatch.setattr(refinement, "RISE", rise)
     p = _lattice(12, 4)
     boxes = pack_boxes([_Box((0.6, 1.2), (-1.0, 2.0), 1)])
     q, _ = _refined(p, boxes)
@@ -190,12 +195,14 @@ def test_a_family_crossing_into_a_box_hands_its_momentum_to_its_children():
     for c in ("vx", "vz", "vx_old", "vz_old"):  # as fitted: unrelated to the mother's
         getattr(q, c)[kids] = rng.normal(0.0, 1.0, 4)
     before = _family_momentum(q, pid)
-    q.x[i] += 0.06  # into the box, by less than the hysteresis: no change yet
-    q.x[kids] += 0.06
+    rise = DX / 2 * (refinement.HYSTERESIS if refinement.RISE is None else refinement.RISE)
+    step = 0.6 + 0.5 * rise - q.x[i]  # into the box, by half the rise: no change yet
+    q.x[i] += step
+    q.x[kids] += step
     q, _ = assign(q, boxes, DX)
     assert active_fluid(q)[i] and not active_fluid(q)[kids].any()
-    q.x[i] += 0.05  # one fine spacing in
-    q.x[kids] += 0.05
+    q.x[i] += rise  # past the rise
+    q.x[kids] += rise
     q, _ = assign(q, boxes, DX)
     kids = q.parent == pid
     assert np.all(active_fluid(q)[kids]) and q.body[q.pid == pid][0] == GHOST
