@@ -290,7 +290,8 @@ def _family_levels(parts: Particles, fluid: np.ndarray, own: np.ndarray, root: n
     the level of the region its level-0 particle lies in, with a hysteresis of
     :data:`HYSTERESIS` spacings of the boxes' levels about their edges (a family keeps its
     level ``before`` until its level-0 particle is that far past an edge: in still water
-    the surface particles beside a boundary settle back and forth across it), lowered
+    the surface particles beside a boundary settle back and forth across it; :data:`RISE`
+    spacings inside an edge for a rise, where it is set), lowered
     while the family's particles of that level are not all there (a mother out of their
     buffered box lost its children) or one of them strayed more than :data:`STRAY` of its
     spacings out of its level's boxes, where its kernel would reach past the lattice of its

@@ -180,7 +180,7 @@ def test_a_family_crossing_into_a_box_hands_its_momentum_to_its_children(monkeyp
     fitted from the flow around them, turn active with a common change of velocity that
     gives them its momentum exactly, at both leapfrog levels (the issue's "momentum
     conserved to round-off in every split and merge"); not before its level-0 particle is
-    ``RISE`` fine spacings inside the box (3: a family half of that inside, six times the
+    ``RISE`` fine spacings inside the box (3: a family half of that inside, three times the
     hysteresis, stays coarse)."""
     monkeypatch.setattr(refinement, "RISE", rise)
     p = _lattice(12, 4)
