@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 from compare import run_report_main
 from numba import njit
-from refinement_sloshing import BOXES, LENGTH, case
+from refinement_sloshing import BOXES, LENGTH, case, mechanical_energy
 from scipy.spatial import cKDTree
 
 import sph.engine.refinement as refinement
@@ -94,17 +94,18 @@ class Budget:
         self.sums = dict.fromkeys(TERMS, 0.0)
         self.volume_by_x = np.zeros(int(np.ceil(LENGTH)))
         self.falls: list[tuple[float, float, float]] = []  # (t, x, nearest / dx)
-        self._wrap_mechanical("verlet_update", "update")
-        self._wrap_mechanical("apply_shift", "shift")
-        self._wrap_elastic_module("packing_density", "packing")
+        self._wrap_module("verlet_update", "update", self.total)
+        self._wrap_module("apply_shift", "shift", self.total)
+        self._wrap_module("packing_density", "packing", self.elastic)
         self._wrap_volume()
         self._wrap_levels()
 
     def mechanical(self) -> tuple[float, float]:
-        p = self.sim.parts
-        a = active_fluid(p)
-        return (0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
-                9.81 * float(np.sum(p.m[a] * p.z[a])))
+        return mechanical_energy(self.sim.parts)
+
+    def total(self) -> float:
+        """KE + PE of the mass-carrying fluid."""
+        return sum(self.mechanical())
 
     def _elastic_each(self) -> np.ndarray:
         p = self.sim.parts
@@ -116,23 +117,15 @@ class Budget:
     def elastic(self) -> float:
         return float(self._elastic_each().sum())
 
-    def _wrap_mechanical(self, name: str, term: str) -> None:
+    def _wrap_module(self, name: str, term: str, measure) -> None:
+        """Replace the stepper's function ``name`` by one that adds the change of
+        ``measure()`` across each call to the term ``term``."""
         inner = getattr(stepper, name)
 
         def wrapped(*args):
-            e0 = sum(self.mechanical())
+            e0 = measure()
             inner(*args)
-            self.sums[term] += sum(self.mechanical()) - e0
-
-        setattr(stepper, name, wrapped)
-
-    def _wrap_elastic_module(self, name: str, term: str) -> None:
-        inner = getattr(stepper, name)
-
-        def wrapped(*args):
-            e0 = self.elastic()
-            inner(*args)
-            self.sums[term] += self.elastic() - e0
+            self.sums[term] += measure() - e0
 
         setattr(stepper, name, wrapped)
 
@@ -158,9 +151,9 @@ class Budget:
         def wrapped():
             p = sim.parts
             before = p.pid[active_fluid(p) & (levels(p.hs) == 0)]
-            e0 = sum(self.mechanical())
+            e0 = self.total()
             inner()
-            self.sums["levels"] += sum(self.mechanical()) - e0
+            self.sums["levels"] += self.total() - e0
             p = sim.parts
             now = np.nonzero(active_fluid(p) & (levels(p.hs) == 0))[0]
             fresh = np.isin(p.pid[now], before, invert=True)

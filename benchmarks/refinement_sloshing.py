@@ -99,6 +99,14 @@ def _jitter(p, dx: float, amplitude: float, rng) -> None:
     p.z[k] += rng.uniform(-1.0, 1.0, len(k)) * reach
 
 
+def mechanical_energy(p) -> tuple[float, float]:
+    """Kinetic and potential energy (J per metre of width) of the fluid that carries the
+    mass (ghosts excluded)."""
+    a = active_fluid(p)
+    return (0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
+            9.81 * float(np.sum(p.m[a] * p.z[a])))
+
+
 def simulate(sim, t_end: float, jitter: float | None = None) -> dict:
     """Run ``sim`` to ``t_end``, recording (t, KE, PE) of the mass-carrying fluid every
     ``RECORD`` s (``jitter``: the ``--jitter`` displacements); a run the engine stops keeps
@@ -110,10 +118,7 @@ def simulate(sim, t_end: float, jitter: float | None = None) -> dict:
     surface0 = _surface(sim.parts)
     while sim.t < t_end:
         if sim.t >= nxt - 1e-9:
-            p = sim.parts
-            a = active_fluid(p)
-            rec.append((sim.t, 0.5 * float(np.sum(p.m[a] * (p.vx[a] ** 2 + p.vz[a] ** 2))),
-                        9.81 * float(np.sum(p.m[a] * p.z[a]))))
+            rec.append((sim.t, *mechanical_energy(sim.parts)))
             nxt += RECORD
         if jitter and sim.t >= shake:
             _jitter(sim.parts, sim.cfg.numerics.dx, jitter, rng)
