@@ -17,10 +17,12 @@ fluid wrapped and its change summed:
   (:mod:`sph.engine.volume`) and the packing correction
   (:func:`sph.engine.refinement.packing_density`) put in by changing densities;
 
-and the volume correction's input summed by metre of x, and each family that falls back
-to level 0 counted with the distance from its level-0 particle to the nearest coarse
-active particle already there. A diagnostic, not a check: the wrappers replace the
-stepper's module functions for the run.
+and the volume correction's input summed by metre of x, by metre of z, and by the share of
+the volume fraction read at the particle that its own level's fluid gives (1 where only
+its level is near; between 0.1 and 0.9 where the levels mix, at a box's edge), and each
+family that falls back to level 0 counted with the distance from its level-0 particle to
+the nearest coarse active particle already there. A diagnostic, not a check: the wrappers
+replace the stepper's module functions for the run.
 
     python benchmarks/refinement_budget.py run --mode surface --out DIR [--t-end 60] [--rise R]
     python benchmarks/refinement_budget.py report DIR
@@ -39,11 +41,13 @@ from pathlib import Path
 import numpy as np
 from compare import run_report_main
 from numba import njit
-from refinement_sloshing import BOXES, LENGTH, case, mechanical_energy
+from refinement_sloshing import BOXES, DEPTH, LENGTH, case, mechanical_energy
+from scipy import ndimage
 from scipy.spatial import cKDTree
 
 import sph.engine.refinement as refinement
 import sph.engine.stepper as stepper
+import sph.engine.volume as volume
 from sph.driver import Simulation
 from sph.engine.kernels import KP_R2MAX, f_scaled
 from sph.engine.particles import FLUID, GHOST
@@ -53,6 +57,8 @@ from sph.engine.refinement import active_fluid, levels
 RECORD = 0.5
 #: the budget's terms, in the order of the records
 TERMS = ("update", "shift", "levels", "ghosts", "volume", "packing")
+#: bins of the share of the volume fraction at a particle given by its own level's fluid
+OWN_SHARE = (0.0, 0.1, 0.5, 0.9, 0.98, 1.0 + 1e-9)
 
 
 @njit(cache=True)
@@ -93,6 +99,8 @@ class Budget:
         self.b, self.gamma, self.rho0 = sim.b, fl.gamma, fl.rho0
         self.sums = dict.fromkeys(TERMS, 0.0)
         self.volume_by_x = np.zeros(int(np.ceil(LENGTH)))
+        self.volume_by_z = np.zeros(int(np.ceil(2 * DEPTH)))
+        self.volume_by_share = np.zeros(len(OWN_SHARE) - 1)
         self.falls: list[tuple[float, float, float]] = []  # (t, x, nearest / dx)
         self._wrap_module("verlet_update", "update", self.total)
         self._wrap_module("apply_shift", "shift", self.total)
@@ -129,6 +137,23 @@ class Budget:
 
         setattr(stepper, name, wrapped)
 
+    def _level_fractions(self, parts) -> list[np.ndarray]:
+        """The volume correction's smoothed fraction (:mod:`sph.engine.volume`) of each
+        level's active fluid alone, read at every particle."""
+        vc, lev = self.sim.volume, levels(parts.hs)
+        out = []
+        for k in range(int(lev.max()) + 1):
+            grid = np.zeros(vc.shape)
+            kind = np.where(lev == k, parts.kind, -1).astype(parts.kind.dtype)
+            volume.deposit(parts.x, parts.z, parts.rho, parts.m, parts.hs, kind, parts.body,
+                           vc.x0, vc.z0, vc.spacing, grid)
+            grid = ndimage.gaussian_filter(grid / vc.spacing ** 2, volume.VOLUME_SIGMA,
+                                           mode="constant", cval=0.0)
+            out.append(ndimage.map_coordinates(
+                grid, [(parts.x - vc.x0) / vc.spacing - 0.5,
+                       (parts.z - vc.z0) / vc.spacing - 0.5], order=1, mode="nearest"))
+        return out
+
     def _wrap_volume(self) -> None:
         inner = self.sim.volume.apply
 
@@ -137,8 +162,16 @@ class Budget:
             out = inner(parts, dt)
             de = self._elastic_each() - e0
             self.sums["volume"] += float(de.sum())
-            bins = np.clip(parts.x, 0.0, len(self.volume_by_x) - 1e-9).astype(int)
-            self.volume_by_x += np.bincount(bins, weights=de, minlength=len(self.volume_by_x))
+            for where, sums in ((parts.x, self.volume_by_x), (parts.z, self.volume_by_z)):
+                bins = np.clip(where, 0.0, len(sums) - 1e-9).astype(int)
+                sums += np.bincount(bins, weights=de, minlength=len(sums))
+            on = de != 0.0
+            if on.any():
+                frac = self._level_fractions(parts)
+                own = np.choose(levels(parts.hs), frac, mode="clip")
+                share = own[on] / np.maximum(sum(f[on] for f in frac), 1e-12)
+                self.volume_by_share += np.histogram(share, bins=OWN_SHARE,
+                                                     weights=de[on])[0]
             return out
 
         self.sim.volume.apply = wrapped
@@ -196,6 +229,8 @@ def run(args) -> None:
     result = dict(mode=args.mode, rise=args.rise, e0=ke0, columns=["t", "E", "elastic",
                                                                    *TERMS],
                   records=records, volume_by_x=budget.volume_by_x.tolist(),
+                  volume_by_z=budget.volume_by_z.tolist(),
+                  volume_by_own_share=budget.volume_by_share.tolist(),
                   falls=budget.falls, wall_seconds=time.perf_counter() - t0)
     (out / f"budget_{name}.json").write_text(json.dumps(result))
     print(f"{name}: to t = {sim.t:.2f} s, {result['wall_seconds']:.0f} s")
@@ -212,6 +247,13 @@ def report(args) -> None:
                                               zip(TERMS, last[3:], strict=True)))
         vx = np.array(r["volume_by_x"]) / e0
         print("  volume correction by metre of x: " + " ".join(f"{v:.2f}" for v in vx))
+        if "volume_by_z" in r:
+            vz = np.array(r["volume_by_z"]) / e0
+            print("  by metre of z, from the floor: " + " ".join(f"{v:.2f}" for v in vz))
+            vs = np.array(r["volume_by_own_share"]) / e0
+            print("  by the share of the fraction at the particle its own level gives: " +
+                  ", ".join(f"{a:g}-{min(b, 1):g} {v:+.2f}" for a, b, v in
+                            zip(OWN_SHARE[:-1], OWN_SHARE[1:], vs, strict=True)))
         falls = np.array(r["falls"])
         if len(falls):
             near = falls[:, 2]

@@ -9,7 +9,10 @@ change level twice a period. Modes:
 
 - ``coarse``, ``fine``: uniform dx = 0.8 m and 0.4 m, the references;
 - ``deep``: a level-1 box x in [8, 16] m, z in [3, 8] m, under the surface;
-- ``surface``: a level-1 box x in [8, 16] m through the free surface, as a ship's box.
+- ``surface``: a level-1 box x in [8, 16] m through the free surface, as a ship's box,
+  and through the floor;
+- ``lifted``: the same box 2 m off the floor, so that its edges meet no wall (a ship's box
+  does not reach the tank's walls either).
 
     python benchmarks/refinement_sloshing.py run --mode deep --out DIR [--t-end 60]
         [--hysteresis 0.5] [--rise 3] [--jitter 0.25] [--density-filter none] [--max-lost 0.02]
@@ -59,7 +62,8 @@ from sph.engine.stepper import SimulationError
 LENGTH, DEPTH, AMPLITUDE, DX = 24.0, 12.0, 2.0, 0.8
 BOXES = {"coarse": [], "fine": [],
          "deep": [{"x": [8.0, 16.0], "z": [3.0, 8.0], "level": 1}],
-         "surface": [{"x": [8.0, 16.0], "z": [-2.0, 20.0], "level": 1}]}
+         "surface": [{"x": [8.0, 16.0], "z": [-2.0, 20.0], "level": 1}],
+         "lifted": [{"x": [8.0, 16.0], "z": [2.0, 20.0], "level": 1}]}
 #: seconds between records, and the report's window
 RECORD, WINDOW = 0.05, 6.0
 #: ``--jitter``: seconds between the displacements, and the share of particles displaced

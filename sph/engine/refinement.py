@@ -74,6 +74,7 @@ from __future__ import annotations
 
 import numpy as np
 from numba import prange
+from scipy.spatial import cKDTree
 
 from sph.engine.config import MAX_LEVEL
 from sph.engine.filters import mls_solve
@@ -779,6 +780,33 @@ def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start
             rho[i] *= f
             rho_old[i] *= f
             changed[i] = f
+
+
+def wall_contact(x, z, kind, body, box, dx: float) -> tuple[str, float, float] | None:
+    """Where an edge of ``box`` (xmin, xmax, zmin, zmax) meets a fixed wall beside the fluid:
+    the edge's name and the fluid particle within ``dx`` of that edge and within 1.5 ``dx``
+    of a fixed wall particle (the tank's, wall group 0) that is nearest the wall, or None.
+
+    Such an edge is a level boundary that the flow crosses along a wall: a family that changes
+    level there is not held by the wall beside it (docs/validation/refinement.md, "A sloshing
+    tank"). An edge inside a wall, with no fluid beside it, is no contact."""
+    xmin, xmax, zmin, zmax = box
+    edges = (("left", np.abs(x - xmin), (z >= zmin) & (z <= zmax)),
+             ("right", np.abs(x - xmax), (z >= zmin) & (z <= zmax)),
+             ("bottom", np.abs(z - zmin), (x >= xmin) & (x <= xmax)),
+             ("top", np.abs(z - zmax), (x >= xmin) & (x <= xmax)))
+    fluid = kind == FLUID
+    fixed = (kind != FLUID) & (body == 0)
+    for name, gap, along in edges:
+        near = (gap <= dx) & along
+        f, w = np.nonzero(near & fluid)[0], np.nonzero(near & fixed)[0]
+        if len(f) == 0 or len(w) == 0:
+            continue
+        d, _ = cKDTree(np.column_stack([x[w], z[w]])).query(np.column_stack([x[f], z[f]]))
+        if d.min() <= 1.5 * dx:
+            k = f[np.argmin(d)]
+            return name, float(x[k]), float(z[k])
+    return None
 
 
 def levels(hs: np.ndarray) -> np.ndarray:

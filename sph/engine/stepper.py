@@ -56,6 +56,7 @@ from sph.engine.refinement import (
     packing_density,
     packing_fraction,
     spawn,
+    wall_contact,
 )
 from sph.engine.scales import Scales
 from sph.engine.shifting import apply_shift, shift_params, shifting_active
@@ -271,9 +272,11 @@ class Stepper:
 
     def _refine_initial(self) -> None:
         """Give the fluid and the walls inside the refinement boxes children down to their
-        level (:func:`spawn`, :func:`assign`); a box must overlap the domain."""
+        level (:func:`spawn`, :func:`assign`); a box must overlap the domain, and one whose
+        edge meets a fixed wall beside the fluid is warned of (:func:`wall_contact`)."""
         xmin, xmax, zmin, zmax = self.setup.bounds
         p = self.parts
+        dx = self.cfg.numerics.dx
         n_cfg = len(self.cfg.numerics.refinement)
         for k, b in enumerate(self._box_list):
             key = (f"numerics.refinement[{k}]" if k < n_cfg
@@ -282,7 +285,14 @@ class Stepper:
                 raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
                                   f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
                                   f"[{zmin:g}, {zmax:g}] m")
-        dx = self.cfg.numerics.dx
+            contact = wall_contact(p.x, p.z, p.kind, p.body, (*b.x, *b.z), dx)
+            if contact is not None:
+                log.warning("%s: the box's %s edge meets a fixed wall beside the fluid near "
+                            "x = %.2f, z = %.2f m; a family that changes level beside a wall "
+                            "is not held by it, and a flow across such an edge packs and "
+                            "gains energy there (docs/validation/refinement.md, 'A sloshing "
+                            "tank'): keep the edges the flow crosses a few spacings off the "
+                            "walls", key, *contact)
         parts, _ = spawn(p, self.boxes, dx, self._grad_rho(), fluid_only=False)
         self.parts, _ = assign(parts, self.boxes, dx, hysteresis=False)
 

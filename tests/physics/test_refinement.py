@@ -7,6 +7,7 @@ the uniform one; bad boxes are refused before any compute.
 
 import logging
 import math
+import re
 
 import numpy as np
 import pytest
@@ -804,6 +805,25 @@ def test_a_box_margin_within_the_coarser_support_is_warned_about(caplog, level, 
     assert bool(msgs) == warns, msgs
     if warns:
         assert f"allowed from {2.952 / 2 ** (level - 1):.3g} m" in msgs[0]
+
+
+@pytest.mark.parametrize("z, edge", [((-1.0, 2.0), "left"), ((0.25, 2.0), None),
+                                     ((-1.0, 0.45), "left")])
+def test_a_box_edge_that_meets_a_fixed_wall_is_warned_about(caplog, z, edge):
+    """A box whose edge crosses the tank's floor beside the fluid (the sloshing benchmark's
+    box through the floor, which gains energy there: docs/validation/refinement.md) is
+    warned of, naming the key, the edge and the place; a box whose edges stay more than a
+    spacing and a half off the walls, or lie inside them, is not."""
+    with caplog.at_level(logging.WARNING, logger="sph.engine.stepper"):
+        _still(0.1, [{"x": [0.35, 0.65], "z": list(z), "level": 1}])
+    msgs = [r.getMessage() for r in caplog.records if "meets a fixed wall" in r.getMessage()]
+    if edge is None:
+        assert msgs == []
+    else:
+        assert len(msgs) == 1
+        assert msgs[0].startswith(f"numerics.refinement[0]: the box's {edge} edge")
+        x, zc = (float(v) for v in re.findall(r"x = ([-\d.]+), z = ([-\d.]+)", msgs[0])[0])
+        assert abs(x - 0.35) <= 0.1 and 0.0 < zc <= 0.15
 
 
 def test_the_density_band_is_checked_over_the_active_fluid():
