@@ -74,7 +74,6 @@ from __future__ import annotations
 
 import numpy as np
 from numba import prange
-from scipy.spatial import cKDTree
 
 from sph.engine.config import MAX_LEVEL
 from sph.engine.filters import mls_solve
@@ -782,30 +781,35 @@ def packing_density(x, z, rho, rho_old, kind, comp, body, hs, kp, op, kin, start
             changed[i] = f
 
 
-def wall_contact(x, z, kind, body, box, dx: float) -> tuple[str, float, float] | None:
-    """Where an edge of ``box`` (xmin, xmax, zmin, zmax) meets a fixed wall beside the fluid:
-    the edge's name and the fluid particle within ``dx`` of that edge and within 1.5 ``dx``
-    of a fixed wall particle (the tank's, wall group 0) that is nearest the wall, or None.
+def wall_contact(box, guard, dx: float) -> tuple[str, str, float, float] | None:
+    """Where an edge of ``box`` (xmin, xmax, zmin, zmax) meets a fixed wall of the tank,
+    whose surfaces ``guard`` gives (:func:`sph.engine.walls.tank_guard`: the end walls'
+    x, +-inf where an end is no fixed wall, the floor's z and the end walls' top): the
+    edge, the wall and the point, or None.
 
-    Such an edge is a level boundary that the flow crosses along a wall: a family that changes
-    level there is not held by the wall beside it (docs/validation/refinement.md, "A sloshing
-    tank"). An edge inside a wall, with no fluid beside it, is no contact."""
+    An edge meets a wall where it crosses the wall's surface inside the tank, or runs
+    along it within 1.5 ``dx`` (the first fluid particles lie half a spacing off it): a
+    level boundary the flow crosses along a wall, where a family that changes level is not
+    held by the wall beside it (docs/validation/refinement.md, "A sloshing tank"). An edge
+    inside a wall or above the end walls meets none. Fixed walls other than the tank's
+    (an obstacle of a case) are not looked at."""
     xmin, xmax, zmin, zmax = box
-    edges = (("left", np.abs(x - xmin), (z >= zmin) & (z <= zmax)),
-             ("right", np.abs(x - xmax), (z >= zmin) & (z <= zmax)),
-             ("bottom", np.abs(z - zmin), (x >= xmin) & (x <= xmax)),
-             ("top", np.abs(z - zmax), (x >= xmin) & (x <= xmax)))
-    fluid = kind == FLUID
-    fixed = (kind != FLUID) & (body == 0)
-    for name, gap, along in edges:
-        near = (gap <= dx) & along
-        f, w = np.nonzero(near & fluid)[0], np.nonzero(near & fixed)[0]
-        if len(f) == 0 or len(w) == 0:
-            continue
-        d, _ = cKDTree(np.column_stack([x[w], z[w]])).query(np.column_stack([x[f], z[f]]))
-        if d.min() <= 1.5 * dx:
-            k = f[np.argmin(d)]
-            return name, float(x[k]), float(z[k])
+    left, right, floor, top = guard[0], guard[1], guard[2], guard[3]
+    reach = 1.5 * dx
+    for name, x in (("left", xmin), ("right", xmax)):
+        if left < x < right and zmin <= floor + reach and zmax > floor:
+            return name, "floor", float(x), float(floor)
+        for wall, gap in (("left end wall", x - left), ("right end wall", right - x)):
+            if 0.0 <= gap <= reach and zmin < top and zmax > floor:
+                return name, wall, float(x), float(max(zmin, floor))
+    for name, z in (("bottom", zmin), ("top", zmax)):
+        if floor < z < top:
+            if xmin <= left + reach and xmax > left:
+                return name, "left end wall", float(left), float(z)
+            if xmax >= right - reach and xmin < right:
+                return name, "right end wall", float(right), float(z)
+        if 0.0 <= z - floor <= reach and xmax > left and xmin < right:
+            return name, "floor", float(max(xmin, left)), float(z)
     return None
 
 

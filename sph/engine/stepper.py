@@ -273,7 +273,7 @@ class Stepper:
     def _refine_initial(self) -> None:
         """Give the fluid and the walls inside the refinement boxes children down to their
         level (:func:`spawn`, :func:`assign`); a box must overlap the domain, and one whose
-        edge meets a fixed wall beside the fluid is warned of (:func:`wall_contact`)."""
+        edge meets a fixed wall of the tank is warned of (:func:`wall_contact`)."""
         xmin, xmax, zmin, zmax = self.setup.bounds
         p = self.parts
         dx = self.cfg.numerics.dx
@@ -285,14 +285,15 @@ class Stepper:
                 raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
                                   f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
                                   f"[{zmin:g}, {zmax:g}] m")
-            contact = wall_contact(p.x, p.z, p.kind, p.body, (*b.x, *b.z), dx)
+            guard = self.setup.tank_guard
+            contact = (wall_contact((*b.x, *b.z), guard, dx) if guard is not None else None)
             if contact is not None:
-                log.warning("%s: the box's %s edge meets a fixed wall beside the fluid near "
-                            "x = %.2f, z = %.2f m; a family that changes level beside a wall "
-                            "is not held by it, and a flow across such an edge packs and "
-                            "gains energy there (docs/validation/refinement.md, 'A sloshing "
-                            "tank'): keep the edges the flow crosses a few spacings off the "
-                            "walls", key, *contact)
+                log.warning("%s: the box's %s edge meets the tank's %s at x = %.2f, z = %.2f "
+                            "m; a family that changes level beside a wall is not held by it, "
+                            "and a flow across such an edge packs and gains energy there "
+                            "(docs/validation/refinement.md, 'A sloshing tank'): keep the "
+                            "edges the flow crosses a few spacings off the walls", key,
+                            *contact)
         parts, _ = spawn(p, self.boxes, dx, self._grad_rho(), fluid_only=False)
         self.parts, _ = assign(parts, self.boxes, dx, hysteresis=False)
 

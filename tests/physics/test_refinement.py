@@ -808,27 +808,29 @@ def test_a_box_margin_within_the_coarser_support_is_warned_about(caplog, level, 
 
 
 @pytest.mark.parametrize("x, z, edge, at", [
-    ((0.35, 0.65), (-1.0, 2.0), "left", (0.35, 0.05)),    # through the floor
-    ((-0.15, 1.15), (0.25, 0.45), "bottom", (0.05, 0.2)),  # across the side walls
-    ((0.35, 0.65), (0.25, 2.0), None, None),              # 2.5 spacings off the floor
-    ((-0.15, 1.15), (-0.15, 2.0), None, None),            # edges inside the walls or above
+    ((0.35, 0.65), (-1.0, 2.0), "left edge meets the tank's floor", (0.35, 0.0)),
+    ((-0.15, 1.15), (0.25, 0.45), "bottom edge meets the tank's left end wall", (0.0, 0.25)),
+    ((0.35, 0.65), (0.1, 2.0), "left edge meets the tank's floor", (0.35, 0.0)),
+    ((0.05, 0.65), (0.3, 2.0), "left edge meets the tank's left end wall", (0.05, 0.3)),
+    ((0.35, 0.65), (0.25, 2.0), None, None),      # 2.5 spacings off the floor
+    ((-0.15, 1.15), (-0.15, 2.0), None, None),    # its edges inside the walls or above them
 ])
-def test_a_box_edge_that_meets_a_fixed_wall_is_warned_about(caplog, x, z, edge, at):
-    """A box whose edge crosses a wall of the tank beside the fluid (the sloshing
-    benchmark's box through the floor, which gains energy there:
-    docs/validation/refinement.md) is warned of, naming the key, the edge and the place
-    (the fluid particle there nearest the wall); a box whose edges stay more than a spacing
-    and a half off the walls, or lie inside them or above the fluid, is not."""
+def test_a_box_edge_that_meets_a_tank_wall_is_warned_about(caplog, x, z, edge, at):
+    """A box whose edge crosses a wall of the tank, or runs along it within 1.5 spacings
+    (the sloshing benchmark's box through the floor, which gains energy there:
+    docs/validation/refinement.md), is warned of, naming the key, the edge, the wall and
+    the place; a box whose edges stay farther off the walls, or lie inside them or above
+    them, is not."""
     with caplog.at_level(logging.WARNING, logger="sph.engine.stepper"):
         _still(0.1, [{"x": list(x), "z": list(z), "level": 1}])
-    msgs = [r.getMessage() for r in caplog.records if "meets a fixed wall" in r.getMessage()]
+    msgs = [r.getMessage() for r in caplog.records if "meets the tank's" in r.getMessage()]
     if edge is None:
         assert msgs == []
     else:
         assert len(msgs) == 1
-        assert msgs[0].startswith(f"numerics.refinement[0]: the box's {edge} edge")
+        assert msgs[0].startswith(f"numerics.refinement[0]: the box's {edge} at ")
         place = re.findall(r"x = ([-\d.]+), z = ([-\d.]+)", msgs[0])[0]
-        np.testing.assert_allclose([float(v) for v in place], at, atol=0.1)
+        np.testing.assert_allclose([float(v) for v in place], at, atol=1e-9)
 
 
 def test_the_density_band_is_checked_over_the_active_fluid():
