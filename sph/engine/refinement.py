@@ -82,6 +82,7 @@ from sph.engine.kernels import KP_R2MAX, f_scaled, w_scaled
 from sph.engine.neighbours import CellGrid, _pack_lists
 from sph.engine.opening import in_sight, in_sight_near, opening_circle, sees
 from sph.engine.particles import _FI, _II, FLUID, GHOST, Particles
+from sph.engine.walls import TG_FLOOR, TG_LEFT, TG_RIGHT, TG_TOP
 
 #: the packing correction (:func:`packing_density`, at every rebuild of the lists): a
 #: particle is in the bulk where its packing fraction and that of every active fluid
@@ -794,7 +795,7 @@ def wall_contact(box, guard, dx: float) -> tuple[str, str, float, float] | None:
     inside a wall or above the end walls meets none. Fixed walls other than the tank's
     (an obstacle of a case) are not looked at."""
     xmin, xmax, zmin, zmax = box
-    left, right, floor, top = guard[0], guard[1], guard[2], guard[3]
+    left, right, floor, top = guard[TG_LEFT], guard[TG_RIGHT], guard[TG_FLOOR], guard[TG_TOP]
     reach = 1.5 * dx
     for name, x in (("left", xmin), ("right", xmax)):
         if left < x < right and zmin <= floor + reach and zmax > floor:
