@@ -47,7 +47,6 @@ from scipy.spatial import cKDTree
 
 import sph.engine.refinement as refinement
 import sph.engine.stepper as stepper
-import sph.engine.volume as volume
 from sph.driver import Simulation
 from sph.engine.kernels import KP_R2MAX, f_scaled
 from sph.engine.particles import FLUID, GHOST
@@ -141,18 +140,9 @@ class Budget:
         """The volume correction's smoothed fraction (:mod:`sph.engine.volume`) of each
         level's active fluid alone, read at every particle."""
         vc, lev = self.sim.volume, levels(parts.hs)
-        out = []
-        for k in range(int(lev.max()) + 1):
-            grid = np.zeros(vc.shape)
-            kind = np.where(lev == k, parts.kind, -1).astype(parts.kind.dtype)
-            volume.deposit(parts.x, parts.z, parts.rho, parts.m, parts.hs, kind, parts.body,
-                           vc.x0, vc.z0, vc.spacing, grid)
-            grid = ndimage.gaussian_filter(grid / vc.spacing ** 2, volume.VOLUME_SIGMA,
-                                           mode="constant", cval=0.0)
-            out.append(ndimage.map_coordinates(
-                grid, [(parts.x - vc.x0) / vc.spacing - 0.5,
-                       (parts.z - vc.z0) / vc.spacing - 0.5], order=1, mode="nearest"))
-        return out
+        at = [(parts.x - vc.x0) / vc.spacing - 0.5, (parts.z - vc.z0) / vc.spacing - 0.5]
+        return [ndimage.map_coordinates(vc.fraction(parts, lev == k)[0], at, order=1,
+                                        mode="nearest") for k in range(int(lev.max()) + 1)]
 
     def _wrap_volume(self) -> None:
         inner = self.sim.volume.apply

@@ -276,7 +276,7 @@ class Stepper:
         edge meets a fixed wall of the tank is warned of (:func:`wall_contact`)."""
         xmin, xmax, zmin, zmax = self.setup.bounds
         p = self.parts
-        dx = self.cfg.numerics.dx
+        dx, guard = self.cfg.numerics.dx, self.setup.tank_guard
         n_cfg = len(self.cfg.numerics.refinement)
         for k, b in enumerate(self._box_list):
             key = (f"numerics.refinement[{k}]" if k < n_cfg
@@ -285,8 +285,7 @@ class Stepper:
                 raise ConfigError(key, f"the box x = {list(b.x)}, z = {list(b.z)} m lies "
                                   f"outside the domain x in [{xmin:g}, {xmax:g}], z in "
                                   f"[{zmin:g}, {zmax:g}] m")
-            guard = self.setup.tank_guard
-            contact = (wall_contact((*b.x, *b.z), guard, dx) if guard is not None else None)
+            contact = wall_contact((*b.x, *b.z), guard, dx) if guard is not None else None
             if contact is not None:
                 log.warning("%s: the box's %s edge meets the tank's %s at x = %.2f, z = %.2f "
                             "m; a family that changes level beside a wall is not held by it, "

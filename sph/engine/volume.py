@@ -176,11 +176,14 @@ class VolumeCorrection:
                       int(math.ceil((zmax - zmin) / spacing)) + 1)
         self._factor = np.empty(0)
 
-    def fraction(self, parts) -> tuple[np.ndarray, np.ndarray]:
+    def fraction(self, parts, select=None) -> tuple[np.ndarray, np.ndarray]:
         """The smoothed volume fraction on the grid's nodes and whether each node's
-        neighbourhood is full (module docstring)."""
+        neighbourhood is full (module docstring); ``select``: a mask of the particles to
+        count (all active fluid where None), as a diagnostic of one level's share."""
+        kind = parts.kind if select is None else np.where(select, parts.kind, -1).astype(
+            parts.kind.dtype)
         grid = np.zeros(self.shape)
-        deposit(parts.x, parts.z, parts.rho, parts.m, parts.hs, parts.kind, parts.body,
+        deposit(parts.x, parts.z, parts.rho, parts.m, parts.hs, kind, parts.body,
                 self.x0, self.z0, self.spacing, grid)
         grid /= self.spacing * self.spacing
         frac = ndimage.gaussian_filter(grid, VOLUME_SIGMA, mode="constant", cval=0.0)
