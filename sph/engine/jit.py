@@ -47,7 +47,10 @@ def cache_dir(base: str | None = None) -> str:
     Numba checks a cached kernel against its own source file only: a kernel that inlines a
     function of another module (every pair loop inlines the kernel functions) would keep
     the old code after that module changed, and a run after an update would differ from a
-    fresh installation's. A folder per version of the whole engine rules that out."""
+    fresh installation's. A folder per version of the whole engine rules that out. (A
+    process that compiles the pair loop's parallel kernel itself still runs other machine
+    code, equal to round-off, than one that loads it from the cache: docs/checkpoints.md,
+    "What is bit-identical, and why".)"""
     if not base:
         base = os.path.join(os.environ.get("XDG_CACHE_HOME")
                             or os.path.join(os.path.expanduser("~"), ".cache"), "sph-flood")
