@@ -124,7 +124,11 @@ MACH_LIMIT = 0.1
 
 #: scalar state entries of a stepper: name -> type
 STATE_SCALARS = {"t": float, "step": int, "dt": float, "volume0": float, "n_fluid": int,
-                 "n_lost": int, "warned_c0": bool, "n_spawned": int, "n_removed": int}
+                 "n_lost": int, "warned_c0": bool, "n_spawned": int, "n_removed": int,
+                 "n_guarded": int}
+#: scalar entries that states written by earlier versions lack, with the value they stand for
+#: there (``n_guarded``: before the tank's guard, no particle was guarded)
+STATE_SCALAR_DEFAULTS = {"n_guarded": 0}
 
 
 class Stepper:
@@ -734,7 +738,6 @@ class Stepper:
         }
         for name, tp in STATE_SCALARS.items():
             out[name] = np.array(tp(getattr(self, name)))
-        out["n_guarded"] = np.array(self.n_guarded)
         rec = self.record
         n = len(rec.time)
         out["record.time"] = np.asarray(rec.time, dtype=np.float64)
@@ -801,9 +804,10 @@ class Stepper:
                                     f"has {self.boxes.shape[0]}")
             self.boxes[:] = state["boxes"]
         for name, tp in STATE_SCALARS.items():
-            setattr(self, name, tp(state[name][()]))
-        # (states written before the tank guard have none)
-        self.n_guarded = int(state["n_guarded"][()]) if "n_guarded" in state else 0
+            if name not in state and name in STATE_SCALAR_DEFAULTS:
+                setattr(self, name, STATE_SCALAR_DEFAULTS[name])
+            else:
+                setattr(self, name, tp(state[name][()]))
         for k, obj in pairs:
             prefix = f"stateful.{k}."
             try:

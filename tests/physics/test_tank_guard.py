@@ -142,3 +142,19 @@ def test_an_impact_on_the_walls_is_unchanged_to_the_bit():
     assert np.array_equal(runs[0].parts.f, runs[1].parts.f)
     # the surge did reach the far wall and climb it
     assert runs[0].dataset()["front_position"].max() >= 1.6 - 0.05
+
+
+def test_the_count_of_guarded_particles_goes_through_a_checkpoint():
+    """The count is part of the state (``STATE_SCALARS``): a stepper set from a state of
+    a run that guarded a particle carries it on; a state written before the guard existed
+    (no ``n_guarded`` entry) stands for none guarded."""
+    sim, _ = _driven_into_the_floor(guard=True)
+    assert sim.n_guarded >= 1
+    state = sim.get_state()
+    other, _ = _driven_into_the_floor(guard=False)
+    assert other.n_guarded == 0
+    other.set_state(state)
+    assert other.n_guarded == sim.n_guarded
+    del state["n_guarded"]
+    other.set_state(state)
+    assert other.n_guarded == 0
