@@ -45,6 +45,7 @@ import argparse
 import logging
 import os
 import sys
+import warnings
 from pathlib import Path
 
 import yaml
@@ -52,6 +53,7 @@ import yaml
 from sph import __version__
 from sph.cases import CASES, build_case, example_text, load_case
 from sph.driver import RunInterrupted, Simulation, SimulationError
+from sph.engine.jit import compiled_here
 from sph.io.checkpoint import (
     CheckpointError,
     checkpoint_dir,
@@ -135,13 +137,48 @@ def main(argv=None) -> int:
     if args.command == "export":
         return _export(args.checkpoint, args.output)
     try:
-        return _run(args)
+        return _run(args, own_process=argv is None)
     except KeyboardInterrupt:  # before the time loop (while building the particles)
         print("interrupted before the run started", file=sys.stderr)
         return 4
 
 
-def _run(args) -> int:
+#: set in the environment of a ``sph run`` that starts again with the kernels the first
+#: process compiled (:func:`_compile_kernels`): it does not start again a second time
+RESTARTED_ENV = "SPH_KERNELS_CACHED"
+
+
+def _compile_kernels(cfg) -> list[str]:
+    """Compile, or load from numba's cache, the kernels the case ``cfg`` runs, and return
+    those this process compiled itself (:func:`sph.engine.jit.compiled_here`).
+
+    A throw-away simulation of the case (its messages silenced: the run's own gives them)
+    takes a step, a sample and a check at t = 0 and again at the time of its last timed
+    event (the damage opening at t1), so that the kernels a run first needs later come from
+    the cache too."""
+    logging.disable(logging.WARNING)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            warm = Simulation(cfg)
+            times = [e.time for e in warm.setup.events if isinstance(
+                getattr(e, "time", None), float)]
+            for t in [None] + ([max(times)] if times else []):
+                try:
+                    if t is not None:
+                        warm.t = t
+                    warm.evaluate()
+                    warm.advance()
+                    warm.sample()
+                    warm.check()
+                except Exception:  # noqa: BLE001 - the run meets it again and reports it
+                    pass
+    finally:
+        logging.disable(logging.NOTSET)
+    return compiled_here()
+
+
+def _run(args, own_process: bool = False) -> int:
 
     overrides = list(args.overrides)
     if args.threads is not None:
@@ -170,6 +207,18 @@ def _run(args) -> int:
         print(f"error: cannot write to the output directory {str(out.parent)!r}: "
               f"{exc.strerror or exc}; nothing was computed", file=sys.stderr)
         return 5
+    if own_process and not os.environ.get(RESTARTED_ENV):
+        fresh = _compile_kernels(cfg)
+        if fresh:
+            # the kernels a process compiles itself differ from those loaded from the cache
+            # at round-off (docs/checkpoints.md): run with the cached ones, as every later
+            # run and every resumed one will
+            log.info("compiled %d kernels (first run of this engine here); starting again "
+                     "with them from numba's cache", len(fresh))
+            os.environ[RESTARTED_ENV] = "1"
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os.execv(sys.executable, [sys.executable, "-m", "sph.cli", *sys.argv[1:]])
     ckpt = checkpoint_dir(out)
     try:
         resumed = resume_or_start(sim, ckpt, args.resume)
@@ -209,6 +258,11 @@ def _run(args) -> int:
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 5
+    late = compiled_here(parallel=True) if own_process else []
+    if late:
+        log.warning("this run compiled parallel kernels it first needed during the run "
+                    "(%s): a rerun, which loads them from numba's cache, can differ from it "
+                    "at round-off (docs/checkpoints.md)", ", ".join(sorted(set(late))))
     if sim.status != "completed":
         log.info("%s; run again with a larger run.max_steps (or 0) to continue", sim.status)
     log.info("done: %d steps in %.1f s wall (%.3g M particle-steps/s); wrote %s", sim.step,

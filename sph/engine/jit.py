@@ -27,7 +27,49 @@ JIT_PARALLEL_PAIR = dict(JIT_PAIR, parallel=True)
 #: flags for kernels with a ``prange`` loop
 JIT_PARALLEL = dict(JIT, parallel=True)
 
-njit = numba.njit
+#: every kernel of the engine, as :func:`njit` made it, in the order defined
+KERNELS: list = []
+
+
+def njit(*args, **flags):
+    """:func:`numba.njit`, keeping each kernel it makes in :data:`KERNELS` so that a process
+    can tell which kernels it compiled itself (:func:`compiled_here`)."""
+    if args and callable(args[0]):
+        kernel = numba.njit(*args, **flags)
+        KERNELS.append(kernel)
+        return kernel
+    decorate = numba.njit(*args, **flags)
+
+    def keep(fn):
+        kernel = decorate(fn)
+        KERNELS.append(kernel)
+        return kernel
+    return keep
+
+
+def compiled_here(parallel: bool = False) -> list[str]:
+    """The kernels that this process compiled itself instead of loading them from numba's
+    cache (the cache had no entry for a signature they were called with), by name; with
+    ``parallel``, only those compiled with ``parallel=True``, the ones known to differ.
+
+    A process that compiles the pair loop's parallel kernel itself runs other machine code,
+    equal to round-off, than one that loads it from the cache (docs/checkpoints.md, "What
+    is bit-identical, and why"): ``sph run`` starts again in a new process when this is not
+    empty, so that every run computes with the kernels every later run loads. Kernels
+    compiled without a cache (none in the engine) and Python functions (under
+    ``NUMBA_DISABLE_JIT``) are not counted."""
+    from numba.core.caching import NullCache
+
+    names = []
+    for kernel in KERNELS:
+        stats = getattr(kernel, "stats", None)
+        if stats is None or isinstance(getattr(kernel, "_cache", None), NullCache):
+            continue
+        if parallel and not kernel.targetoptions.get("parallel"):
+            continue
+        if sum(stats.cache_misses.values()):
+            names.append(kernel.py_func.__qualname__)
+    return names
 
 
 def engine_source_hash(folder: Path = Path(__file__).parent) -> str:
@@ -49,8 +91,9 @@ def cache_dir(base: str | None = None) -> str:
     the old code after that module changed, and a run after an update would differ from a
     fresh installation's. A folder per version of the whole engine rules that out. (A
     process that compiles the pair loop's parallel kernel itself still runs other machine
-    code, equal to round-off, than one that loads it from the cache: docs/checkpoints.md,
-    "What is bit-identical, and why".)"""
+    code, equal to round-off, than one that loads it from the cache, which is why ``sph
+    run`` starts again once it has compiled kernels: :func:`compiled_here`,
+    docs/checkpoints.md, "What is bit-identical, and why".)"""
     if not base:
         base = os.path.join(os.environ.get("XDG_CACHE_HOME")
                             or os.path.join(os.path.expanduser("~"), ".cache"), "sph-flood")

@@ -81,3 +81,21 @@ def test_a_run_that_asks_for_two_threads_gets_two(monkeypatch):
     assert set_threads(2) == 2 and numba.get_num_threads() == 2
     assert set_threads(0) == 1 and numba.get_num_threads() == 1
     assert set_threads(limit + 5) == limit
+
+
+def test_a_process_knows_the_kernels_it_compiled_itself(tmp_path):
+    """:func:`sph.engine.jit.compiled_here` names the kernels a process compiled (an empty
+    cache: ``fluid_pressures`` and the serial ``tait_pressure`` it calls), and none once
+    they are cached (a second process); with ``parallel`` it keeps to the parallel ones."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    code = textwrap.dedent("""
+        import numpy as np
+        from sph.engine.eos import fluid_pressures
+        from sph.engine.jit import compiled_here
+        rho = np.full(3, 1000.0); p = np.zeros(3)
+        fluid_pressures(rho, np.zeros(3, np.int32), p, 1000.0, 1.0e5, 7.0)
+        print(sorted(compiled_here()), compiled_here(parallel=True))
+    """)
+    runs = [subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                           capture_output=True, text=True).stdout.strip() for _ in range(2)]
+    assert runs == ["['fluid_pressures', 'tait_pressure'] ['fluid_pressures']", "[] []"]

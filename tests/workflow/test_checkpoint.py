@@ -432,6 +432,45 @@ def _child(argv, threads=1):
 
 LONGER = TINY["still_water"][1] + ["run.t_end=0.6", "run.checkpoint_interval=0.2"]
 
+#: a sloshing tank with the ship cases' numerics, in which a pair loop compiled in the
+#: process and one loaded from numba's cache part at round-off within the run
+SHIP_NUMERICS_SLOSHING = ["numerics.density_filter=none", "numerics.shifting=1.0",
+                          "numerics.wall_damping=true", "numerics.kernel=gaussian",
+                          "run.t_end=0.5"]
+
+
+@pytest.mark.slow
+def test_a_first_run_computes_with_the_kernels_every_later_run_loads(tmp_path, case_file):
+    """The first ``sph run`` of an engine on a machine (numba's cache empty) compiles its
+    kernels, then starts again in a new process that loads them from the cache, so that it
+    writes the same bits as every later run, a resumed one included (docs/checkpoints.md,
+    "What is bit-identical"). Without the new start (``SPH_KERNELS_CACHED`` set, as the
+    second process has it) the first run's last bits differ: the test can fail."""
+    from sph.cli import RESTARTED_ENV
+
+    path = case_file("sloshing_rect")
+
+    def run(name, cache, restart=True):
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / cache), NUMBA_NUM_THREADS="1")
+        env.pop(RESTARTED_ENV, None)
+        if not restart:
+            env[RESTARTED_ENV] = "1"
+        out = tmp_path / f"{name}.nc"
+        proc = subprocess.run([sys.executable, "-m", "sph.cli", "run", str(path), "-o",
+                               str(out), "--no-progress"]
+                              + set_options(SHIP_NUMERICS_SLOSHING), env=env,
+                              capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        return read_dataset(out), proc.stderr
+
+    first, log = run("first", "cache")
+    assert "starting again with them from numba's cache" in log
+    later, log = run("later", "cache")
+    assert "starting again" not in log and "compiled parallel kernels" not in log
+    assert_same_series(first, later)
+    fresh, _ = run("fresh", "other-cache", restart=False)
+    assert not np.array_equal(fresh["kinetic_energy"].values, later["kinetic_energy"].values)
+
 
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
 def test_cli_killed_process_resumes_to_the_same_result(tmp_path, case_file, caplog, capsys,
