@@ -7,7 +7,9 @@ A long run (the refined Table I cases take hours to days) writes its partial out
 the simulated time, step and elapsed wall time from the newer of the two, and the run's
 own word on how it ended (``status`` of the output: ``completed``, ``interrupted ...``,
 ``failed: ...``) from the output. A partial output says ``running`` while the run is going
-and keeps saying it if the process was killed; the age of the newest file tells which.
+and keeps saying it if the process was killed (or its machine went away); the age of the
+newest file tells which, and the table says so where a run that has not ended has written
+nothing for much longer than it writes (:meth:`RunStatus.silent`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,11 @@ class StatusError(ValueError):
 #: wall seconds of computing after which a run's average rate tells its time left (a run
 #: stopped during its first step, one checkpoint of 36 s, gave 2900 hours)
 AVERAGE_AFTER = 600.0
+#: a run that has not ended and has written nothing for this many times its interval
+#: between writes, and :data:`SILENT_GRACE` seconds more (a restarted run builds its
+#: particles and loads its kernels before it writes), is reported as silent
+SILENT_FACTOR = 3.0
+SILENT_GRACE = 300.0
 
 
 @dataclass(frozen=True)
@@ -44,7 +51,10 @@ class RunStatus:
     simulated seconds per wall hour between the two newest checkpoints (a run keeps two;
     None with fewer), ``max_speed`` (m/s) and ``max_density`` (kg/m3) the largest of the
     run's samples so far (``max_velocity`` and ``density_max`` of its output; None where
-    they are not recorded): a run leaving the physics shows there first."""
+    they are not recorded): a run leaving the physics shows there first. ``write_every``
+    is the wall time between the run's writes while it runs (the shorter of
+    ``run.flush_seconds`` and ``run.checkpoint_wall_seconds``; None if it writes on no
+    wall-time schedule)."""
 
     output: Path
     case: str
@@ -58,6 +68,7 @@ class RunStatus:
     recent_rate: float | None = None
     max_speed: float | None = None
     max_density: float | None = None
+    write_every: float | None = None
 
     @property
     def fraction(self) -> float | None:
@@ -70,14 +81,30 @@ class RunStatus:
         return 3600.0 * self.t / self.wall_seconds if self.wall_seconds > 0 else None
 
     @property
+    def going(self) -> bool:
+        """Whether the run has not ended: a partial output that says ``running``, or a
+        checkpoint alone."""
+        return self.status == "running" or self.status.startswith("started")
+
+    def silent(self, now: float) -> float | None:
+        """The seconds since the newest file of a run that has not ended, where that is
+        longer than it can be while the run runs (:data:`SILENT_FACTOR` times
+        ``write_every`` plus :data:`SILENT_GRACE`): its process was stopped or killed,
+        its machine went away, or it waits in a workflow for a core. A run just started
+        again reads so until its first write. None otherwise."""
+        if not self.going or self.updated is None or not self.write_every:
+            return None
+        quiet = now - self.updated
+        return quiet if quiet > SILENT_FACTOR * self.write_every + SILENT_GRACE else None
+
+    @property
     def hours_left(self) -> float | None:
         """Wall hours to ``t_end`` at the recent rate (else the average one, once the run
         has computed for :data:`AVERAGE_AFTER` seconds: before that it is mostly the run's
         start, building and compiling), for a run that has not ended: a partial output that
         says ``running`` or a checkpoint alone."""
         rate = self.recent_rate or (self.rate if self.wall_seconds >= AVERAGE_AFTER else None)
-        going = self.status == "running" or self.status.startswith("started")
-        if not going or not rate or self.t_end is None:
+        if not self.going or not rate or self.t_end is None:
             return None
         return max(0.0, self.t_end - self.t) / rate
 
@@ -94,10 +121,15 @@ def _largest(values) -> float | None:
 HEALTH = {"max_speed": "max_velocity", "max_density": "density_max"}
 
 
-def _case_and_end(config_text: str) -> tuple[str, float | None]:
-    """The case name and ``run.t_end`` (None if unset) of a run's resolved configuration."""
+def _case_and_end(config_text: str) -> tuple[str, float | None, float | None]:
+    """The case name, ``run.t_end`` (None if unset) and the wall seconds between writes
+    (:attr:`RunStatus.write_every`) of a run's resolved configuration."""
     cfg = yaml.safe_load(config_text) or {}
-    return str(cfg.get("case", "?")), float(cfg.get("run", {}).get("t_end", 0.0)) or None
+    run = cfg.get("run", {})
+    every = [float(run.get(k) or 0.0) for k in ("flush_seconds", "checkpoint_wall_seconds")]
+    every = [e for e in every if e > 0.0]
+    return (str(cfg.get("case", "?")), float(run.get("t_end", 0.0)) or None,
+            min(every) if every else None)
 
 
 def _from_output(path: Path) -> dict | None:
@@ -118,9 +150,9 @@ def _from_output(path: Path) -> dict | None:
     if "config" not in attrs or "status" not in attrs:
         raise StatusError(f"{path}: not an sph-flood output (no 'config' and 'status' "
                           f"attributes)")
-    case, t_end = _case_and_end(attrs["config"])
+    case, t_end, every = _case_and_end(attrs["config"])
     return dict(case=str(attrs.get("case", case)), status=str(attrs["status"]), t=t,
-                t_end=t_end, steps=int(attrs.get("steps", 0)),
+                t_end=t_end, write_every=every, steps=int(attrs.get("steps", 0)),
                 wall_seconds=float(attrs.get("wall_clock_seconds", 0.0)),
                 updated=path.stat().st_mtime, **health)
 
@@ -133,11 +165,11 @@ def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
     for path in reversed(checkpoint_files(directory)):
         try:
             with np.load(path, allow_pickle=False) as a:
-                case, t_end = _case_and_end(str(a["config"]))
+                case, t_end, every = _case_and_end(str(a["config"]))
                 health = {k: _largest(a[f"record.series.{v}"])
                           if f"record.series.{v}" in a.files else None
                           for k, v in HEALTH.items()}
-                found.append(dict(case=case, t=float(a["t"]), t_end=t_end,
+                found.append(dict(case=case, t=float(a["t"]), t_end=t_end, write_every=every,
                                   steps=int(a["step"]), wall_seconds=float(a["wall_seconds"]),
                                   updated=path.stat().st_mtime, name=path.name, **health))
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, yaml.YAMLError):
@@ -173,7 +205,7 @@ def run_status(output: str | Path) -> RunStatus:
     updated = max(d["updated"] for d in (out, ckpt) if d is not None)
     return RunStatus(output, newer["case"], status, newer["t"], newer["t_end"],
                      newer["steps"], newer["wall_seconds"], updated, source, recent,
-                     newer["max_speed"], newer["max_density"])
+                     newer["max_speed"], newer["max_density"], newer["write_every"])
 
 
 def find_outputs(directory: str | Path) -> list[Path]:
@@ -195,6 +227,15 @@ def _age(seconds: float) -> str:
     return f"{seconds / 86400:.1f} d ago"
 
 
+def _silence(r: RunStatus, now: float) -> str:
+    quiet = r.silent(now)
+    if quiet is None:
+        return ""
+    return (f"; not running: nothing written for {_age(quiet)[:-4]}, where it writes "
+            f"every {r.write_every / 60:.3g} min while it runs (stopped, or waiting for a "
+            "core in a workflow; `sph run` again resumes it)")
+
+
 def format_table(rows: list[RunStatus], now: float | None = None) -> str:
     """A plain-text table, one line per run."""
     now = time.time() if now is None else now
@@ -214,7 +255,8 @@ def format_table(rows: list[RunStatus], now: float | None = None) -> str:
             "-" if r.max_speed is None else f"{r.max_speed:.3g}",
             "-" if r.max_density is None else f"{r.max_density:.5g}",
             "-" if r.updated is None else _age(max(0.0, now - r.updated)),
-            r.status + (f" ({r.source})" if r.source.startswith("checkpoint") else ""),
+            r.status + (f" ({r.source})" if r.source.startswith("checkpoint") else "")
+            + _silence(r, now),
         ))
     widths = [max(len(line[k]) for line in lines) for k in range(len(head) - 1)]
     return "\n".join(

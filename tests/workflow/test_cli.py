@@ -306,7 +306,13 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     between its two checkpoints, the largest speed and density of its samples and the
     output's word on how it ended; resumed to the end, it reads t_end and "completed"."""
     from sph.io.checkpoint import checkpoint_dir, checkpoint_files
-    from sph.io.status import AVERAGE_AFTER, run_status
+    from sph.io.status import (
+        AVERAGE_AFTER,
+        SILENT_FACTOR,
+        SILENT_GRACE,
+        format_table,
+        run_status,
+    )
 
     path = case_file("still_water")
     out = tmp_path / "still.nc"
@@ -337,6 +343,17 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
     assert st.max_density == densities.max() > 990.0
     going = dataclasses.replace(st, status="running")  # as a partial output of a live run
     assert going.hours_left == pytest.approx((0.05 - t_ckpt) / st.recent_rate)
+    # a run that writes every minute (run.flush_seconds; checkpoints every 10) and has
+    # written nothing for far longer is not running: the table says so, and only for a run
+    # that has not ended
+    assert st.write_every == 60.0
+    quiet = SILENT_FACTOR * 60.0 + SILENT_GRACE
+    assert going.silent(going.updated + quiet - 1.0) is None
+    assert going.silent(going.updated + quiet + 1.0) == pytest.approx(quiet + 1.0)
+    assert st.silent(going.updated + 1.0e5) is None
+    assert "not running: nothing written for 2.0 h" in format_table(
+        [going], now=going.updated + 7200.0)
+    assert "not running" not in format_table([going], now=going.updated + 60.0)
     # with one checkpoint the average rate tells the time left only after AVERAGE_AFTER s
     # of computing: before, it is mostly the run's start
     one = dataclasses.replace(going, recent_rate=None)
