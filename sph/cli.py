@@ -207,9 +207,9 @@ def _run(args, own_process: bool = False) -> int:
         print(f"error: cannot write to the output directory {str(out.parent)!r}: "
               f"{exc.strerror or exc}; nothing was computed", file=sys.stderr)
         return 5
-    if own_process and not os.environ.get(RESTARTED_ENV):
+    if own_process:  # (loading the kernels here also keeps it out of the run's timing)
         fresh = _compile_kernels(cfg)
-        if fresh:
+        if fresh and not os.environ.get(RESTARTED_ENV):
             # the kernels a process compiles itself differ from those loaded from the cache
             # at round-off (docs/checkpoints.md): run with the cached ones, as every later
             # run and every resumed one will
@@ -218,6 +218,9 @@ def _run(args, own_process: bool = False) -> int:
             os.environ[RESTARTED_ENV] = "1"
             sys.stdout.flush()
             sys.stderr.flush()
+            exe = sys.argv[0]  # the `sph` script: the same command line for `ps` and `pgrep`
+            if os.access(exe, os.X_OK) and not exe.endswith(".py"):
+                os.execv(exe, [exe, *sys.argv[1:]])
             os.execv(sys.executable, [sys.executable, "-m", "sph.cli", *sys.argv[1:]])
     ckpt = checkpoint_dir(out)
     try:
@@ -260,9 +263,9 @@ def _run(args, own_process: bool = False) -> int:
         return 5
     late = compiled_here(parallel=True) if own_process else []
     if late:
-        log.warning("this run compiled parallel kernels it first needed during the run "
-                    "(%s): a rerun, which loads them from numba's cache, can differ from it "
-                    "at round-off (docs/checkpoints.md)", ", ".join(sorted(set(late))))
+        log.warning("this run computed with parallel kernels it compiled itself (%s): a "
+                    "rerun, which loads them from numba's cache, can differ from it at "
+                    "round-off (docs/checkpoints.md)", ", ".join(sorted(set(late))))
     if sim.status != "completed":
         log.info("%s; run again with a larger run.max_steps (or 0) to continue", sim.status)
     log.info("done: %d steps in %.1f s wall (%.3g M particle-steps/s); wrote %s", sim.step,
