@@ -121,7 +121,7 @@ def _largest(values) -> float | None:
 HEALTH = {"max_speed": "max_velocity", "max_density": "density_max"}
 
 
-def _case_and_end(config_text: str) -> tuple[str, float | None, float | None]:
+def _run_keys(config_text: str) -> tuple[str, float | None, float | None]:
     """The case name, ``run.t_end`` (None if unset) and the wall seconds between writes
     (:attr:`RunStatus.write_every`) of a run's resolved configuration."""
     cfg = yaml.safe_load(config_text) or {}
@@ -150,7 +150,7 @@ def _from_output(path: Path) -> dict | None:
     if "config" not in attrs or "status" not in attrs:
         raise StatusError(f"{path}: not an sph-flood output (no 'config' and 'status' "
                           f"attributes)")
-    case, t_end, every = _case_and_end(attrs["config"])
+    case, t_end, every = _run_keys(attrs["config"])
     return dict(case=str(attrs.get("case", case)), status=str(attrs["status"]), t=t,
                 t_end=t_end, write_every=every, steps=int(attrs.get("steps", 0)),
                 wall_seconds=float(attrs.get("wall_clock_seconds", 0.0)),
@@ -165,7 +165,7 @@ def _from_checkpoints(directory: Path, most: int = 2) -> list[dict]:
     for path in reversed(checkpoint_files(directory)):
         try:
             with np.load(path, allow_pickle=False) as a:
-                case, t_end, every = _case_and_end(str(a["config"]))
+                case, t_end, every = _run_keys(str(a["config"]))
                 health = {k: _largest(a[f"record.series.{v}"])
                           if f"record.series.{v}" in a.files else None
                           for k, v in HEALTH.items()}
@@ -217,21 +217,25 @@ def find_outputs(directory: str | Path) -> list[Path]:
     return sorted(found)
 
 
-def _age(seconds: float) -> str:
+def _duration(seconds: float) -> str:
     if seconds < 120:
-        return f"{seconds:.0f} s ago"
+        return f"{seconds:.0f} s"
     if seconds < 7200:
-        return f"{seconds / 60:.0f} min ago"
+        return f"{seconds / 60:.0f} min"
     if seconds < 172800:
-        return f"{seconds / 3600:.1f} h ago"
-    return f"{seconds / 86400:.1f} d ago"
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} d"
+
+
+def _age(seconds: float) -> str:
+    return f"{_duration(seconds)} ago"
 
 
 def _silence(r: RunStatus, now: float) -> str:
     quiet = r.silent(now)
     if quiet is None:
         return ""
-    return (f"; not running: nothing written for {_age(quiet)[:-4]}, where it writes "
+    return (f"; not running: nothing written for {_duration(quiet)}, where it writes "
             f"every {r.write_every / 60:.3g} min while it runs (stopped, or waiting for a "
             "core in a workflow; `sph run` again resumes it)")
 
