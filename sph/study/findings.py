@@ -167,6 +167,29 @@ def harmonics(t, y, omegas: Sequence[float]) -> np.ndarray:
     return s + 1j * c
 
 
+
+def spectrum_peaks(t, y, omega: float, lo: float = 0.5, hi: float = 2.2, step: float = 0.01,
+                   floor: float = 0.1) -> list[tuple[float, float]]:
+    """Where an oscillation sits: the local maxima, as ``(frequency / omega, amplitude)``
+    from the largest down, of the amplitude of one sinusoid (and a line) fitted by
+    :func:`harmonics` at each frequency of a grid from ``lo`` to ``hi`` times ``omega``
+    in steps of ``step``, keeping those above ``floor`` times the largest. A record of
+    length L resolves frequencies about 2 pi / L apart (0.2 omega over five periods):
+    closer components merge into one peak, a peak's amplitude carries the leakage of its
+    neighbours, and a strong component's side lobes (about a fifth of it) are peaks too;
+    fit the peaks found together with :func:`harmonics` to part them."""
+    if not 0.0 < lo < hi or step <= 0.0:
+        raise ValueError(f"spectrum_peaks: need 0 < lo < hi and step > 0, got lo={lo}, "
+                         f"hi={hi}, step={step}")
+    grid = np.arange(lo, hi + 0.5 * step, step)
+    amp = np.array([abs(harmonics(t, y, [f * omega])[0]) for f in grid])
+    if not np.isfinite(amp).any():
+        return []
+    top = float(np.nanmax(amp))
+    found = [(float(grid[i]), float(amp[i])) for i in range(1, grid.size - 1)
+             if amp[i] > amp[i - 1] and amp[i] >= amp[i + 1] and amp[i] > floor * top]
+    return sorted(found, key=lambda fa: -fa[1])
+
 def mean_frequency(t, y, omega: float) -> float:
     """Power-weighted mean angular frequency of ``y`` (evenly sampled, NaN samples at the
     ends left out) between ``omega / 2`` and ``3 omega``, from a Hann-windowed periodogram

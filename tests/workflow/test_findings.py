@@ -414,6 +414,26 @@ def test_harmonics_recover_amplitudes_and_phases_over_a_short_window():
     np.testing.assert_allclose(np.angle(a), [0.4, -1.0, 2.0], atol=1e-9)
 
 
+
+def test_spectrum_peaks_find_a_low_mode_beside_the_wave_and_the_sloshing_frequency():
+    """Like the 75 % ship's cargo: a low mode at 0.72 ω larger than the forced response at
+    ω, and a little sloshing at 1.29 ω, on a drifting offset, over five periods. The three
+    largest peaks lie on the three frequencies to within the grid's step; their amplitudes
+    carry each other's leakage (up to about a third over five periods), and fitted together at the
+    peaks' frequencies they come back exact."""
+    t = np.arange(0.0, 5 * T, 0.1)
+    y = (0.3 + 0.02 * t + 0.9 * np.sin(0.72 * t + 0.3) + 0.5 * np.sin(t - 1.0)
+         + 0.15 * np.sin(1.29 * t + 2.0))
+    peaks = findings.spectrum_peaks(t, y, 1.0)
+    freqs = [f for f, _ in peaks[:3]]
+    np.testing.assert_allclose(freqs, [0.72, 1.0, 1.29], atol=0.015)
+    np.testing.assert_allclose([a for _, a in peaks[:3]], [0.9, 0.5, 0.15], rtol=0.4)
+    np.testing.assert_allclose(np.abs(findings.harmonics(t, y, [0.72, 1.0, 1.29])),
+                               [0.9, 0.5, 0.15], rtol=1e-9)
+    assert findings.spectrum_peaks(t, np.full_like(t, np.nan), 1.0) == []
+    with pytest.raises(ValueError, match="lo < hi"):
+        findings.spectrum_peaks(t, y, 1.0, lo=2.0, hi=1.0)
+
 def test_mean_frequency_of_a_sine_and_of_a_sine_with_its_second_harmonic():
     t = np.arange(0.0, 5 * T, 0.1)
     assert findings.mean_frequency(t, np.sin(1.2 * t), 1.0) == pytest.approx(1.2, rel=0.02)
