@@ -1074,6 +1074,37 @@ def zone_entries(ds, period: float) -> list[str]:
     return out
 
 
+
+#: the records :func:`spectra_table` looks into: name, (variable, probe), unit
+SPECTRA_RECORDS = {"roll": ("roll", None, "degree"), "heave": ("heave", None, "m"),
+                   "W1": ("probe_elevation", "W1", "m"), "W2": ("probe_elevation", "W2", "m")}
+
+
+def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
+                  peaks: int = 3) -> list[dict]:
+    """Where each case's records sit after t2: the ``peaks`` largest peaks of
+    :func:`spectrum_peaks` of the roll, the heave and the sloshing probes W1 and W2 of
+    every case the findings read (every case at the first case's wave where they read
+    none), each over the window its findings read (from t2 to the end, or to where its
+    hull reached the absorbing zone). A probe that does not move (W1 of a ship without
+    cargo) has none. Rows for a CSV table."""
+    s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
+    rows = []
+    for c in (str(c) for c in s.ds["case"].values):
+        s.stop = min(s.t_end, s.zone_entry(c)[0])
+        t = s.steady_times()
+        for record, (name, probe, unit) in SPECTRA_RECORDS.items():
+            if name not in s.ds or (probe is not None and probe not in s.ds["probe"].values):
+                continue
+            y = s.steady(c, name, probe)
+            moves = t.size and np.isfinite(y).any() and np.nanmax(y) > np.nanmin(y)
+            found = spectrum_peaks(t, y, s.omega) if moves else []
+            for rank, (f, a) in enumerate(found[:peaks], start=1):
+                rows.append(dict(case=c, record=record, peak=rank, frequency_over_omega=f,
+                                 amplitude=a, unit=unit, window_start=s.t2,
+                                 window_end=min(s.stop, s.end(c))))
+    return rows
+
 def findings_table(findings: Sequence[Finding]) -> list[dict]:
     """Rows for a CSV or HTML table."""
     return [f.as_dict() for f in findings]

@@ -313,7 +313,9 @@ def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     nc = tmp_path / "sweep.nc"
     ds.to_netcdf(nc)
     csv, html, md = (tmp_path / f"findings.{ext}" for ext in ("csv", "html", "md"))
-    load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md))
+    spectra = tmp_path / "spectra.csv"
+    load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md),
+                          str(spectra))
     page = html.read_text()
     stopped = ("Runs that stopped before their end (their findings after that are not "
                "determinable): case5 at t/T = 8: failed: simulation stopped at step 123")
@@ -322,6 +324,7 @@ def test_the_findings_page_lists_the_runs_that_stopped(tmp_path, figure_script):
     f6 = next(r for r in rows if r.startswith("F6,"))
     # (no verdicts on the halves of a window it could not be read over)
     assert "stopped at t/T = 8" in f6 and f6.endswith("not determinable,,")
+    assert spectra.read_text().startswith("case,record,peak,frequency_over_omega,")
 
 
 def test_figures_name_a_run_that_stopped(tmp_path, figure_script):
@@ -433,6 +436,31 @@ def test_spectrum_peaks_find_a_low_mode_beside_the_wave_and_the_sloshing_frequen
     assert findings.spectrum_peaks(t, np.full_like(t, np.nan), 1.0) == []
     with pytest.raises(ValueError, match="lo < hi"):
         findings.spectrum_peaks(t, y, 1.0, lo=2.0, hi=1.0)
+
+
+def test_spectra_table_places_each_record_of_each_case():
+    """The synthetic sweep rolls at ω with the case's amplitude (case3 with a second
+    harmonic of 0.3 of it, which leaks 0.4 % into the single sinusoid fitted at ω over
+    five periods), and its W1 at ω with the case's own. A run that stopped at 10 T is
+    read up to there."""
+    rows = findings.spectra_table(_stopped(_sweep(_paper_like()), "case5", 10 * T),
+                                  GROUPS, 7.0)
+    first = {(r["case"], r["record"]): r for r in rows if r["peak"] == 1}
+    for case, p in _paper_like().items():
+        roll = first[(case, "roll")]
+        assert roll["frequency_over_omega"] == pytest.approx(1.0, abs=0.015), case  # grid step
+        assert roll["amplitude"] == pytest.approx(p["roll"], rel=0.01), case
+        assert roll["unit"] == "degree" and roll["window_start"] == pytest.approx(7 * T)
+        if "beat" not in p:  # (case8's W1 beats: 1.26 ω leaks into ω over five periods)
+            assert first[(case, "W1")]["amplitude"] == pytest.approx(p.get("w1", 0.1),
+                                                                     rel=0.01), case
+        assert roll["window_end"] == pytest.approx(10 * T if case == "case5" else 12 * T,
+                                                   abs=0.2), case
+    second = [r for r in rows if r["case"] == "case3" and r["record"] == "roll"
+              and r["peak"] == 2]
+    # (a weak peak on the side lobes of a strong one moves by a few steps of the grid)
+    assert second[0]["frequency_over_omega"] == pytest.approx(2.0, abs=0.04)
+    assert second[0]["amplitude"] == pytest.approx(0.3 * 6.0, rel=0.01)
 
 def test_mean_frequency_of_a_sine_and_of_a_sine_with_its_second_harmonic():
     t = np.arange(0.0, 5 * T, 0.1)
@@ -617,7 +645,8 @@ def test_runs_whose_fluid_went_through_the_walls_are_named(tmp_path, figure_scri
         nc = tmp_path / f"{name}.nc"
         ds.to_netcdf(nc)
         csv, html, md = (tmp_path / f"{name}.{e}" for e in ("csv", "html", "md"))
-        load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md))
+        load("findings").main(str(nc), GROUPS, 7.0, "demo", str(csv), str(html), str(md),
+                              str(tmp_path / f"{name}_spectra.csv"))
         return md.read_text()
 
     ds = _sweep(_paper_like())

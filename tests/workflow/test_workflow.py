@@ -274,6 +274,10 @@ def test_toy_workflow_writes_the_sweep_dataset(toy):
     assert findings[0].startswith("id,statement")
     ids = [ln.split(",")[0] for ln in findings[1:]]
     assert ids == [f"F{i}" for i in range(1, 21)]  # every finding reported, once, in order
+    spectra = (toy / "results" / "test" / "spectra.csv").read_text().splitlines()
+    assert spectra[0] == ("case,record,peak,frequency_over_omega,amplitude,unit,window_start,"
+                          "window_end")
+    assert {ln.split(",")[0] for ln in spectra[1:]} <= set(cases)
 
 
 def test_toy_report_shows_every_figure_and_table(toy):

@@ -24,6 +24,7 @@ rule findings:
     output:
         csv="results/{sweep}/findings.csv",
         md="results/{sweep}/findings.md",
+        spectra="results/{sweep}/spectra.csv",
         html=report(
             "results/{sweep}/findings.html",
             caption="../report/findings.rst",

@@ -1,7 +1,8 @@
 """The paper's findings measured on a sweep dataset: a CSV table, an HTML page and the
 same page in Markdown.
 
-Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``, ``.md``.
+Rule ``findings``: ``snakemake.input.nc`` -> ``snakemake.output.csv``, ``.html``, ``.md``
+and ``.spectra`` (where each case's records sit after t2: :func:`sph.study.findings.spectra_table`).
 """
 
 
@@ -17,13 +18,14 @@ from sph.study.findings import (
     findings_markdown,
     findings_table,
     particle_losses,
+    spectra_table,
     stopped_runs,
     zone_entries,
 )
 from sph.study.sweeps import one_wave
 
 
-def main(nc, groups, t2_periods, title, out_csv, out_html, out_md) -> None:
+def main(nc, groups, t2_periods, title, out_csv, out_html, out_md, out_spectra) -> None:
     ds = read_dataset(nc)
     found = compute_findings(ds, groups, t2_periods)
     rows = findings_table(found)
@@ -31,6 +33,13 @@ def main(nc, groups, t2_periods, title, out_csv, out_html, out_md) -> None:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+    spectra = spectra_table(ds, groups, t2_periods)
+    with open(out_spectra, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=["case", "record", "peak", "frequency_over_omega",
+                                                "amplitude", "unit", "window_start",
+                                                "window_end"])
+        writer.writeheader()
+        writer.writerows(spectra)
     # the findings' cases, at one wave (a sweep over wave frequency has several)
     ds = one_wave(ds, sorted({c for g in groups.values() for c in g}))
     period = float(ds.attrs["wave_period"])
@@ -87,4 +96,4 @@ if __name__ == "__main__":
                         format="%(levelname)s %(message)s")
     main(snakemake.input.nc, dict(snakemake.params.groups), float(snakemake.params.t2_periods),
          snakemake.params.title, snakemake.output.csv, snakemake.output.html,
-         snakemake.output.md)
+         snakemake.output.md, snakemake.output.spectra)
