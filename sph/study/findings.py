@@ -167,7 +167,6 @@ def harmonics(t, y, omegas: Sequence[float]) -> np.ndarray:
     return s + 1j * c
 
 
-
 def spectrum_peaks(t, y, omega: float, lo: float = 0.5, hi: float = 2.2, step: float = 0.01,
                    floor: float = 0.1) -> list[tuple[float, float]]:
     """Where an oscillation sits: the local maxima, as ``(frequency / omega, amplitude)``
@@ -189,6 +188,7 @@ def spectrum_peaks(t, y, omega: float, lo: float = 0.5, hi: float = 2.2, step: f
     found = [(float(grid[i]), float(amp[i])) for i in range(1, grid.size - 1)
              if amp[i] > amp[i - 1] and amp[i] >= amp[i + 1] and amp[i] > floor * top]
     return sorted(found, key=lambda fa: -fa[1])
+
 
 def mean_frequency(t, y, omega: float) -> float:
     """Power-weighted mean angular frequency of ``y`` (evenly sampled, NaN samples at the
@@ -1074,7 +1074,6 @@ def zone_entries(ds, period: float) -> list[str]:
     return out
 
 
-
 #: the records :func:`spectra_table` looks into: name, (variable, probe), unit
 SPECTRA_RECORDS = {"roll": ("roll", None, "degree"), "heave": ("heave", None, "m"),
                    "W1": ("probe_elevation", "W1", "m"), "W2": ("probe_elevation", "W2", "m")}
@@ -1104,6 +1103,7 @@ def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
                                  amplitude=a, unit=unit, window_start=s.t2,
                                  window_end=min(s.stop, s.end(c))))
     return rows
+
 
 def findings_table(findings: Sequence[Finding]) -> list[dict]:
     """Rows for a CSV or HTML table."""
