@@ -928,6 +928,11 @@ def compute_findings(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
     return [f if f.holds is None else replace(f, halves=split.get(f.id)) for f in found]
 
 
+def finding_cases(groups: Mapping[str, Sequence[str]]) -> list[str]:
+    """Every case that some group of ``groups`` names, sorted, each once."""
+    return sorted({c for g in groups.values() for c in g})
+
+
 def half_verdicts(ds, groups: Mapping[str, Sequence[str]], t2_periods: float
                   ) -> dict[str, tuple[str, str]]:
     """The verdict of each finding read after t2 on the first and on the second half of the
@@ -936,7 +941,7 @@ def half_verdicts(ds, groups: Mapping[str, Sequence[str]], t2_periods: float
     half may be not determinable where the whole window is not). By finding id; findings
     not read after t2 are left out."""
     # the findings' cases at their one wave (a sweep over wave frequency has several)
-    ds = one_wave(ds, sorted({c for g in groups.values() for c in g}))
+    ds = one_wave(ds, finding_cases(groups))
     period = float(ds.attrs["wave_period"])
     end = float(ds["time"].values[-1]) / period
     mid = t2_periods + 0.5 * (end - t2_periods)
@@ -950,7 +955,7 @@ def half_verdicts(ds, groups: Mapping[str, Sequence[str]], t2_periods: float
 
 def _compute(ds, groups: Mapping[str, Sequence[str]], t2_periods: float) -> list[Finding]:
     """:func:`compute_findings` on one window."""
-    s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
+    s = _Sweep(one_wave(ds, finding_cases(groups)), t2_periods)
     sel = _Cases(s, groups)
     steady_note = (f"needs runs to at least t2 + T = {(t2_periods + 1):g} T "
                    f"(runs end at {s.t_end / s.period:.3g} T)")
@@ -1078,6 +1083,10 @@ def zone_entries(ds, period: float) -> list[str]:
 SPECTRA_RECORDS = {"roll": ("roll", None, "degree"), "heave": ("heave", None, "m"),
                    "W1": ("probe_elevation", "W1", "m"), "W2": ("probe_elevation", "W2", "m")}
 
+#: the columns of :func:`spectra_table`'s rows, in the order of its CSV table
+SPECTRA_COLUMNS = ("case", "record", "peak", "frequency_over_omega", "amplitude", "unit",
+                   "window_start", "window_end")
+
 
 def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
                   peaks: int = 3) -> list[dict]:
@@ -1087,7 +1096,7 @@ def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
     none), each over the window its findings read (from t2 to the end, or to where its
     hull reached the absorbing zone). A probe that does not move (W1 of a ship without
     cargo) has none. Rows for a CSV table."""
-    s = _Sweep(one_wave(ds, sorted({c for g in groups.values() for c in g})), t2_periods)
+    s = _Sweep(one_wave(ds, finding_cases(groups)), t2_periods)
     rows = []
     for c in (str(c) for c in s.ds["case"].values):
         s.stop = min(s.t_end, s.zone_entry(c)[0])
@@ -1099,9 +1108,8 @@ def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
             moves = t.size and np.isfinite(y).any() and np.nanmax(y) > np.nanmin(y)
             found = spectrum_peaks(t, y, s.omega) if moves else []
             for rank, (f, a) in enumerate(found[:peaks], start=1):
-                rows.append(dict(case=c, record=record, peak=rank, frequency_over_omega=f,
-                                 amplitude=a, unit=unit, window_start=s.t2,
-                                 window_end=min(s.stop, s.end(c))))
+                rows.append(dict(zip(SPECTRA_COLUMNS, (c, record, rank, f, a, unit, s.t2,
+                                                       min(s.stop, s.end(c))), strict=True)))
     return rows
 
 

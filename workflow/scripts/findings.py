@@ -11,9 +11,11 @@ import logging
 
 from sph.io.output import read_dataset
 from sph.study.findings import (
+    SPECTRA_COLUMNS,
     compute_findings,
     departures,
     fast_runs,
+    finding_cases,
     findings_html,
     findings_markdown,
     findings_table,
@@ -25,23 +27,22 @@ from sph.study.findings import (
 from sph.study.sweeps import one_wave
 
 
+def write_csv(path, rows, columns) -> None:
+    """``rows`` (dicts) as a CSV table with the header ``columns``."""
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(columns))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def main(nc, groups, t2_periods, title, out_csv, out_html, out_md, out_spectra) -> None:
     ds = read_dataset(nc)
     found = compute_findings(ds, groups, t2_periods)
     rows = findings_table(found)
-    with open(out_csv, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    spectra = spectra_table(ds, groups, t2_periods)
-    with open(out_spectra, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=["case", "record", "peak", "frequency_over_omega",
-                                                "amplitude", "unit", "window_start",
-                                                "window_end"])
-        writer.writeheader()
-        writer.writerows(spectra)
+    write_csv(out_csv, rows, rows[0])
+    write_csv(out_spectra, spectra_table(ds, groups, t2_periods), SPECTRA_COLUMNS)
     # the findings' cases, at one wave (a sweep over wave frequency has several)
-    ds = one_wave(ds, sorted({c for g in groups.values() for c in g}))
+    ds = one_wave(ds, finding_cases(groups))
     period = float(ds.attrs["wave_period"])
     note = (f"Sweep '{ds.attrs.get('sweep', '')}' at preset '{ds.attrs.get('preset', '')}' "
             f"(dx = {ds.attrs.get('dx', float('nan')):g} m), runs to t/T = "
