@@ -367,6 +367,31 @@ def test_figures_mark_where_a_hull_reached_the_absorbing_zone(tmp_path, figure_s
     assert sum(t.endswith("(in the absorbing zone from t/T = 8.01)") for t in titles) == 1
 
 
+def test_fluctuation_shows_its_creep_apart():
+    """F9 and F10 judge the plain range of Q after t2 (as the paper reads its Fig. 13) and
+    show beside it the range about Q's running mean: with a cabin still filling by 6 m2 over
+    the window the first grows, the second stays the water exchanged at the wave frequency."""
+    ds = _sweep(_paper_like())
+    creep = (np.clip(ds["time"] - 7 * T, 0.0, None) * 6.0 / (ds["time"][-1] - 7 * T))
+    ds["flood_volume"] = ds["flood_volume"] + creep.where(ds["flood_volume"] > 0, 0.0)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}
+    text = out["F9"].measured
+    plain, about = text.split("; about Q's one-period running mean")
+    assert "(its creep left out, not judged)" in about
+    # case3: q = 60 with fluct 0.10, a range of 6 m2 (the overshoot has decayed to 1 % by
+    # t2), its largest Q 63 + 5.4 m2 of creep half a period before the end; the plain range
+    # runs from the first trough after t2 (58.3 m2 at 48.7 s, 0.9 of creep) to the last
+    # crest (68.1 m2 at 70.7 s, 5.1 of creep)
+    labels = {c["case"]: findings.case_label(c) for c in CASES}
+
+    def value(part, case):
+        return float(re.search(re.escape(labels[case]) + r": ([0-9.]+) %", part).group(1))
+
+    assert value(about, "case3") == pytest.approx(100 * 6 / 68.4, rel=0.03)
+    assert value(plain, "case3") == pytest.approx(100 * (68.1 - 58.3) / 68.1, rel=0.03)
+    assert "about Q's one-period running mean" in out["F10"].measured
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],
@@ -381,6 +406,13 @@ def test_measures():
     t = np.linspace(0, 20 * T, 20001)
     assert findings.amplitude(3.0 * np.sin(t)) == pytest.approx(3.0, rel=0.015)
     assert findings.fluctuation(10 + np.sin(t)) == pytest.approx(2 / 11, rel=1e-3)
+    # a cabin still filling: the plain range counts the creep, the range about the running
+    # mean does not (a sine's mean over a whole period is 0, a line's is the line)
+    q = 80 + 0.3 * t + 4 * np.sin(t)
+    mean = findings.running_mean(t, q, T)
+    top = q[np.isfinite(mean)].max()
+    assert findings.fluctuation(q) > 2 * 8 / q.max()
+    assert findings.fluctuation(q, about=mean) == pytest.approx(8 / top, rel=2e-3)
     q = np.clip(t - 1.0, 0, None)
     assert findings.inflow_rate(t, q, 2.0, T) == pytest.approx(1.0)
     # an inrush to t = 20, an overshoot decaying over a period, water exchanged at the
