@@ -32,6 +32,9 @@ equilibrium, ``t2_periods * T``):
   between ω/2 and 3ω (a Hann-windowed periodogram on a fine grid); the *mean period* is
   2π over it;
 - *initial inflow rate*: the mean of dQ/dt over ``[t1, t1 + T/2]``;
+- beside the roll amplitudes (F1, F6, F8) the page shows, not judged, the amplitude about a
+  straight line fitted over the window: it keeps a roll slower than the wave, which the
+  running mean mostly takes out (a damaged loaded ship's low mode, near 0.4 omega);
 - *fluctuation* of Q: ``(max - min) / max`` over the window after t2 (below), as the paper
   reads it; the page shows beside it the range about Q's running mean over the largest Q,
   which leaves out a cabin still filling (not judged).
@@ -142,6 +145,17 @@ def running_mean(t, y, period: float) -> np.ndarray:
         return np.full(y.shape, np.nan)
     n = max(int(round(period / float(np.median(np.diff(t))))), 1)
     return pd.Series(y).rolling(n, center=True, min_periods=n).mean().to_numpy()
+
+
+def detrended(t, y) -> np.ndarray:
+    """``y`` less the straight line fitted to it by least squares (NaN samples left out
+    of the fit and kept NaN)."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    ok = np.isfinite(y)
+    if ok.sum() < 2:
+        return np.full(y.shape, np.nan)
+    return y - np.polyval(np.polyfit(t[ok], y[ok], 1), t)
 
 
 def oscillation(t, y, period: float) -> np.ndarray:
@@ -502,6 +516,12 @@ def _roll_amplitude(s: _Sweep, c: str) -> float:
     return amplitude(s.oscillation(c, "roll")[1])
 
 
+def _roll_amplitude_line(s: _Sweep, c: str) -> float:
+    """The roll's amplitude about a straight line fitted over the window after t2: a roll
+    slower than the wave (a mode below omega / 2) kept, which the running mean takes out."""
+    return amplitude(detrended(s.steady_times(), s.steady(c, "roll")))
+
+
 def _heave_amplitude(s: _Sweep, c: str) -> float:
     return amplitude(s.oscillation(c, "heave")[1])
 
@@ -599,18 +619,33 @@ def _each(per_case: Callable[[_Sweep, str], float], quantity: str, percent: bool
     return measure
 
 
-def _creep_apart(measure: Measure) -> Measure:
-    """A fluctuation ``measure``, then each case's fluctuation about Q's one-period running
-    mean beside it: what a cabin still filling within the window adds, shown, not judged
-    (the paper reads the plain range)."""
+def _beside(measure: Measure, per_case: Callable[[_Sweep, str], float], what: str,
+            percent: bool = False) -> Measure:
+    """``measure``, then ``per_case`` of each case shown beside it as ``what``, not judged:
+    the same quantity read another way, where the two ways differ in a run."""
 
     def wrapped(s: _Sweep, cases: Sequence[str]):
         values, text = measure(s, cases)
-        about = {c: 100 * _fluctuation_about_mean(s, c) for c in cases}
-        return values, (f"{text}; about Q's one-period running mean (its creep left out, "
-                        f"not judged): {_fmt(about, s, ' %')}")
+        other = {c: (100 if percent else 1) * per_case(s, c) for c in cases}
+        return values, f"{text}; {what}, not judged: {_fmt(other, s, ' %' if percent else '')}"
 
     return wrapped
+
+
+def _creep_apart(measure: Measure) -> Measure:
+    """A fluctuation ``measure``, and beside it each case's fluctuation about Q's
+    one-period running mean: what a cabin still filling within the window adds (the paper
+    reads the plain range)."""
+    return _beside(measure, _fluctuation_about_mean,
+                   "about Q's one-period running mean (its creep left out)", percent=True)
+
+
+def _slow_roll_kept(measure: Measure) -> Measure:
+    """A roll-amplitude ``measure`` (about the running mean), and beside it the amplitude
+    about a straight line, which keeps a roll slower than the wave: a damaged loaded ship's
+    low mode (below omega / 2) is mostly taken out by the one-period running mean."""
+    return _beside(measure, _roll_amplitude_line,
+                   "about a straight line (a roll slower than the wave kept)")
 
 
 def _first_peaks(s: _Sweep, cases: Sequence[str]):
@@ -755,7 +790,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F1", "The roll amplitude of the damaged ship after t2 is smaller than the intact "
         "ship's", "Sec. IV B, Fig. 15; Sec. V", "opening", _INTACT_DAMAGED,
         _Cases.intact_and_damaged, True,
-        _each(_roll_amplitude, "roll amplitude after t2 (deg)"), _first_largest),
+        _slow_roll_kept(_each(_roll_amplitude, "roll amplitude after t2 (deg)")),
+        _first_largest),
     FindingSpec(
         "F2", "The first peak of Q/V grows with the opening size", "Sec. IV B, Fig. 13",
         "opening", "two or more opening sizes", _Cases.openings, False, _first_peaks,
@@ -777,7 +813,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
     FindingSpec(
         "F6", "At dynamic equilibrium the ship rolls more with the opening on the back side "
         "than facing the waves", "Sec. IV C, Fig. 18; Sec. V", "side", _BOTH_SIDES,
-        _Cases.back_and_head, True, _each(_roll_amplitude, "roll amplitude after t2 (deg)"),
+        _Cases.back_and_head, True,
+        _slow_roll_kept(_each(_roll_amplitude, "roll amplitude after t2 (deg)")),
         _back_larger),
     FindingSpec(
         "F7", "The largest roll angle after damage is towards the side opposite the opening",
@@ -790,8 +827,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F8", "The roll after t2 is near its minimum at the fill ratio η = 50 %",
         "Sec. IV D, Fig. 21; Sec. V", "fill", "η = 50 % and at least two other fill ratios",
         _Cases.fills_with_half, True,
-        _each(_roll_amplitude, "roll amplitude after t2 (deg)",
-              suffix=lambda v: f" (near: within {100 * NEAR_MINIMUM:g} % of the smallest)"),
+        _slow_roll_kept(_each(_roll_amplitude, "roll amplitude after t2 (deg)", suffix=lambda v:
+                              f" (near: within {100 * NEAR_MINIMUM:g} % of the smallest)")),
         _half_near_minimum),
     FindingSpec(
         "F9", "After t2 the flood volume fluctuates by about 10 % of its maximum",

@@ -377,7 +377,7 @@ def test_fluctuation_shows_its_creep_apart():
     out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}
     text = out["F9"].measured
     plain, about = text.split("; about Q's one-period running mean")
-    assert "(its creep left out, not judged)" in about
+    assert about.startswith(" (its creep left out), not judged: ")
     # case3: q = 60 with fluct 0.10, a range of 6 m2 (the overshoot has decayed to 1 % by
     # t2), its largest Q 63 + 5.4 m2 of creep half a period before the end; the plain range
     # runs from the first trough after t2 (58.3 m2 at 48.7 s, 0.9 of creep) to the last
@@ -390,6 +390,34 @@ def test_fluctuation_shows_its_creep_apart():
     assert value(about, "case3") == pytest.approx(100 * 6 / 68.4, rel=0.03)
     assert value(plain, "case3") == pytest.approx(100 * (68.1 - 58.3) / 68.1, rel=0.03)
     assert "about Q's one-period running mean" in out["F10"].measured
+
+
+def test_roll_amplitudes_show_a_slow_roll_apart():
+    """F1, F6 and F8 judge the roll about its one-period running mean and show beside it the
+    amplitude about a straight line: a slow roll (here 8 degree at 0.4 omega, a damaged
+    loaded ship's low mode, added to the 75 % case after t1) is mostly taken out by the
+    first and kept by the second; a case without one reads the same both ways."""
+    ds = _sweep(_paper_like())
+    t = ds["time"]
+    slow = (8.0 * np.sin(0.4 * t) * (t > T1)).where(ds["case"] == "case8", 0.0)
+    ds["roll"] = ds["roll"] + slow.transpose(*ds["roll"].dims)
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}
+    judged, kept = out["F8"].measured.split("; about a straight line")
+    assert kept.startswith(" (a roll slower than the wave kept), not judged: ")
+    labels = {c["case"]: findings.case_label(c) for c in CASES}
+
+    def value(part, case):
+        return float(re.search(re.escape(labels[case]) + r": ([0-9.]+)", part).group(1))
+
+    # case7 (3 degree at omega): the same both ways. case8 (3.2 at omega, 8 at 0.4 omega):
+    # a one-period mean keeps sin(0.4 pi) / (0.4 pi) = 76 % of the slow roll, so the
+    # oscillation about it holds a quarter of it; the line keeps all of it
+    assert value(kept, "case7") == pytest.approx(value(judged, "case7"), rel=0.03)
+    assert value(judged, "case8") < 3.2 + 0.3 * 8.0
+    assert value(kept, "case8") > 8.0
+    assert out["F8"].holds is True  # judged on the running mean's amplitudes
+    for fid in ("F1", "F6"):
+        assert "; about a straight line (a roll slower than the wave kept)" in out[fid].measured
 
 
 def test_missing_groups_are_not_determinable():
@@ -408,6 +436,8 @@ def test_measures():
     assert findings.fluctuation(10 + np.sin(t)) == pytest.approx(2 / 11, rel=1e-3)
     # a cabin still filling: the plain range counts the creep, the range about the running
     # mean does not (a sine's mean over a whole period is 0, a line's is the line)
+    assert np.allclose(findings.detrended(t, 2.0 + 0.5 * t + np.sin(t)),
+                       np.sin(t) - np.polyval(np.polyfit(t, np.sin(t), 1), t))
     q = 80 + 0.3 * t + 4 * np.sin(t)
     mean = findings.running_mean(t, q, T)
     top = q[np.isfinite(mean)].max()
