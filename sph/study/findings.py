@@ -183,7 +183,7 @@ def harmonics(t, y, omegas: Sequence[float]) -> np.ndarray:
     return s + 1j * c
 
 
-def spectrum_peaks(t, y, omega: float, lo: float = 0.5, hi: float = 2.2, step: float = 0.01,
+def spectrum_peaks(t, y, omega: float, lo: float = 0.3, hi: float = 2.2, step: float = 0.01,
                    floor: float = 0.1) -> list[tuple[float, float]]:
     """Where an oscillation sits: the local maxima, as ``(frequency / omega, amplitude)``
     from the largest down, of the amplitude of one sinusoid (and a line) fitted by
@@ -192,7 +192,9 @@ def spectrum_peaks(t, y, omega: float, lo: float = 0.5, hi: float = 2.2, step: f
     length L resolves frequencies about 2 pi / L apart (0.2 omega over five periods):
     closer components merge into one peak, a peak's amplitude carries the leakage of its
     neighbours, and a strong component's side lobes (about a fifth of it) are peaks too;
-    fit the peaks found together with :func:`harmonics` to part them."""
+    fit the peaks found together with :func:`harmonics` to part them. The grid starts at
+    0.3 omega: a damaged loaded ship rolls near 0.37 omega, and below 0.3 omega five
+    periods hold under one and a half cycles."""
     if not 0.0 < lo < hi or step <= 0.0:
         raise ValueError(f"spectrum_peaks: need 0 < lo < hi and step > 0, got lo={lo}, "
                          f"hi={hi}, step={step}")

@@ -489,12 +489,19 @@ def test_spectrum_peaks_find_a_low_mode_beside_the_wave_and_the_sloshing_frequen
     t = np.arange(0.0, 5 * T, 0.1)
     y = (0.3 + 0.02 * t + 0.9 * np.sin(0.72 * t + 0.3) + 0.5 * np.sin(t - 1.0)
          + 0.15 * np.sin(1.29 * t + 2.0))
-    peaks = findings.spectrum_peaks(t, y, 1.0)
+    # from 0.5 omega up: the default grid, from 0.3, also finds the low mode's side lobe at
+    # 0.43 omega (about a fifth of it, above the sloshing's 0.15)
+    peaks = findings.spectrum_peaks(t, y, 1.0, lo=0.5)
     freqs = [f for f, _ in peaks[:3]]
     np.testing.assert_allclose(freqs, [0.72, 1.0, 1.29], atol=0.015)
     np.testing.assert_allclose([a for _, a in peaks[:3]], [0.9, 0.5, 0.15], rtol=0.4)
     np.testing.assert_allclose(np.abs(findings.harmonics(t, y, [0.72, 1.0, 1.29])),
                                [0.9, 0.5, 0.15], rtol=1e-9)
+    assert 0.43 in [round(f, 2) for f, _ in findings.spectrum_peaks(t, y, 1.0)[:4]]
+    # the damaged 75 % ship's slow roll: 12 degree at 0.37 omega beside 7.7 at 0.73 omega
+    # and 3 at omega; the default grid finds it first
+    roll = 12 * np.sin(0.37 * t) + 7.7 * np.sin(0.73 * t + 1.0) + 3 * np.sin(t + 2.0)
+    assert findings.spectrum_peaks(t, roll, 1.0)[0][0] == pytest.approx(0.37, abs=0.015)
     assert findings.spectrum_peaks(t, np.full_like(t, np.nan), 1.0) == []
     with pytest.raises(ValueError, match="lo < hi"):
         findings.spectrum_peaks(t, y, 1.0, lo=2.0, hi=1.0)
