@@ -24,7 +24,8 @@ equilibrium, ``t2_periods * T``):
   prominence is at least 2 % of the largest (the maximum over ``[t1, t1 + 3 T]`` if there
   is none): the same event, the end of the first inrush, for every opening, not a crest
   of the water exchanged at the wave frequency;
-- *mean heel*: the mean roll over the whole periods between ``t1`` and ``t2``;
+- *mean heel*: the mean roll over the whole periods between ``t1`` and ``t2`` (the page
+  shows the intact ship's beside it, not judged: the waves' own mean heel);
 - *harmonics*: the amplitudes and phases of sinusoids at given frequencies (the wave
   frequency ω, 2ω, a cabin's sloshing frequency) fitted together by least squares, with a
   straight line, to the signal after ``t2``;
@@ -642,6 +643,25 @@ def _creep_apart(measure: Measure) -> Measure:
                    "about Q's one-period running mean (its creep left out)", percent=True)
 
 
+def _with_intact_heel(measure: Measure) -> Measure:
+    """A mean-heel ``measure``, and beside it the mean heel of the sweep's intact ship in
+    the same wave over the same periods, where it has one: the waves' own mean heeling
+    moment, which a damaged ship's heel carries too (not judged)."""
+
+    def wrapped(s: _Sweep, cases: Sequence[str]):
+        values, text = measure(s, cases)
+        amp = {s.cases[c].get("amplitude") for c in cases}
+        intact = [c for c, p in s.cases.items() if p["opening"] == 0
+                  and p.get("amplitude") in amp]
+        heel = _mean_heel(s, intact[0]) if intact else float("nan")
+        if math.isfinite(heel):
+            text += (f"; the intact ship's over the same periods, the waves' own mean heel, "
+                     f"not judged: {heel:.3g}")
+        return values, text
+
+    return wrapped
+
+
 def _slow_roll_kept(measure: Measure) -> Measure:
     """A roll-amplitude ``measure`` (about the running mean), and beside it the amplitude
     about a straight line, which keeps a roll slower than the wave: a damaged loaded ship's
@@ -822,8 +842,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F7", "The largest roll angle after damage is towards the side opposite the opening",
         "Sec. IV C; Sec. V", "side (else opening)", "a damaged case",
         _Cases.sides_or_damaged, False,
-        _each(_mean_heel, "mean heel over the whole periods between t1 and t2 (deg, + "
-              "towards the waves' travel)"),
+        _with_intact_heel(_each(_mean_heel, "mean heel over the whole periods between t1 and "
+                                "t2 (deg, + towards the waves' travel)")),
         _away_from_opening),
     FindingSpec(
         "F8", "The roll after t2 is near its minimum at the fill ratio η = 50 %",

@@ -420,6 +420,23 @@ def test_roll_amplitudes_show_a_slow_roll_apart():
         assert "; about a straight line (a roll slower than the wave kept)" in out[fid].measured
 
 
+def test_mean_heel_shows_the_intact_ships_beside():
+    """F7 judges the damaged ships' mean heel between t1 and t2 and shows beside it the
+    intact ship's over the same periods (the waves' own mean heel, here 0.5 degree), not
+    judged; a sweep without an intact ship shows none."""
+    ds = _sweep(_paper_like())
+    ds["roll"] = ds["roll"] + xr.where(ds["case"] == "case1", 0.5, 0.0)
+    f7 = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}["F7"]
+    judged, beside = f7.measured.split("; the intact ship's over the same periods")
+    assert float(beside.rsplit(": ", 1)[1]) == pytest.approx(0.5, abs=0.05)
+    assert f7.holds is True
+    damaged = [c["case"] for c in CASES if c["case"] != "case1"]
+    groups = {g: [c for c in v if c != "case1"] for g, v in GROUPS.items()}
+    f7 = {f.id: f for f in findings.compute_findings(ds.sel(case=damaged), groups, 7.0,
+                                                     halves=False)}["F7"]
+    assert "intact" not in f7.measured and f7.holds is True
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],
