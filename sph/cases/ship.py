@@ -327,6 +327,13 @@ def cabin_probe_scale(u, kind, hs, u_probe: float, radius: float) -> float:
     return float(hs[near].min()) if np.any(near) else 1.0
 
 
+def cabin_probe_u(breadth: float, plating: float, side: str) -> float:
+    """Where the cabin probes W1 and W2 sit across the ship (m from its centre line, + towards
+    +x when upright): B/160 inside the damaged side's inner face. A level surface reads
+    ``u tan(roll)`` there (roll + towards +x), the heel of the frame they read in."""
+    return SIDES[side] * (0.5 * breadth - plating - breadth / 160.0)
+
+
 def _to_keel(xz, kg, cog, theta):
     ct, st = math.cos(theta), math.sin(theta)
     rx, rz = xz[:, 0] - cog[0], xz[:, 1] - cog[1]
@@ -565,7 +572,7 @@ def setup(cfg: CaseConfig) -> CaseSetup:
         diagnostics["flood_ratio"] = lambda p, time: flood_volume(p, time) / v_cabin
     kp = sc.kp
     radius = math.sqrt(kp[KP_R2MAX])
-    u_probe = side * (0.5 * hull.breadth - hull.plating - hull.breadth / 160.0)
+    u_probe = cabin_probe_u(hull.breadth, hull.plating, g.damage.side)
 
     def cabin_probe(s):
         def height(p):

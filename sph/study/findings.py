@@ -24,6 +24,11 @@ equilibrium, ``t2_periods * T``):
   prominence is at least 2 % of the largest (the maximum over ``[t1, t1 + 3 T]`` if there
   is none): the same event, the end of the first inrush, for every opening, not a crest
   of the water exchanged at the wave frequency;
+- *against the level*: the cabin probes W1 and W2 read the surface in the ship's frame, at
+  ``u`` across it (:func:`sph.cases.ship.cabin_probe_u`), as gauges on a model's cabin
+  walls do, so a level surface reads ``u tan(roll)`` there; beside W1's amplitude (F11),
+  the phase (F16) and the beat (F18) the page shows, not judged, the same measure of
+  ``W - u tan(roll)``, the liquid's own motion;
 - *mean heel*: the mean roll over the whole periods between ``t1`` and ``t2`` (the page
   shows the intact ship's beside it, not judged: the waves' own mean heel);
 - *harmonics*: the amplitudes and phases of sinusoids at given frequencies (the wave
@@ -370,10 +375,33 @@ class _Sweep:
                 self.cases[str(c)]["cargo_density"] = float(rho)
 
     def series(self, case: str, name: str, probe: str | None = None) -> np.ndarray:
+        """A variable of ``case`` (at ``probe``); ``probe_level``: a cabin probe's elevation
+        against the level instead of the ship (:meth:`probe_lever`)."""
+        if name == "probe_level":
+            roll = np.radians(self.series(case, "roll"))
+            return (self.series(case, "probe_elevation", probe)
+                    - self.probe_lever(case) * np.tan(roll))
         v = self.ds[name].sel(case=case)
         if probe is not None:
             v = v.sel(probe=probe)
         return v.values
+
+    def probe_lever(self, case: str) -> float:
+        """Where the cabin probes of ``case`` sit across its ship
+        (:func:`sph.cases.ship.cabin_probe_u`, from the run's configuration); NaN where the
+        dataset does not say."""
+        import yaml
+
+        from sph.cases.ship import cabin_probe_u
+
+        if "case_config" not in self.ds:
+            return float("nan")
+        try:
+            g = yaml.safe_load(str(self.ds["case_config"].sel(case=case).values))["geometry"]
+            return cabin_probe_u(g["hull"]["breadth"], g["hull"]["plating"],
+                                 g["damage"]["side"])
+        except (TypeError, KeyError, yaml.YAMLError):
+            return float("nan")
 
     @property
     def omega(self) -> float:
@@ -533,8 +561,12 @@ def _heave_mean(s: _Sweep, c: str) -> float:
     return float(np.nanmean(s.steady(c, "heave")))
 
 
-def _w1_amplitude(s: _Sweep, c: str) -> float:
-    return amplitude(s.oscillation(c, "probe_elevation", "W1")[1])
+def _w1_amplitude(s: _Sweep, c: str, name: str = "probe_elevation") -> float:
+    return amplitude(s.oscillation(c, name, "W1")[1])
+
+
+def _w1_amplitude_level(s: _Sweep, c: str) -> float:
+    return _w1_amplitude(s, c, "probe_level")
 
 
 def _w2_amplitude(s: _Sweep, c: str) -> float:
@@ -563,14 +595,18 @@ def _mean_heel(s: _Sweep, c: str) -> float:
     return float(np.nanmean(window(s.t, s.series(c, "roll"), s.t1, s.t1 + k * s.period)))
 
 
-def _sloshing_phase(s: _Sweep, c: str) -> float:
+def _sloshing_phase(s: _Sweep, c: str, name: str = "probe_elevation") -> float:
     """Phase difference (0 to pi) at the wave frequency between W2 and W1 after t2."""
     t = s.steady_times()
-    a1 = harmonics(t, s.steady(c, "probe_elevation", "W1"), [s.omega])[0]
-    a2 = harmonics(t, s.steady(c, "probe_elevation", "W2"), [s.omega])[0]
+    a1 = harmonics(t, s.steady(c, name, "W1"), [s.omega])[0]
+    a2 = harmonics(t, s.steady(c, name, "W2"), [s.omega])[0]
     if not (np.isfinite(a1) and np.isfinite(a2)) or a1 == 0 or a2 == 0:
         return float("nan")
     return float(abs(np.angle(a2 / a1)))
+
+
+def _sloshing_phase_level(s: _Sweep, c: str) -> float:
+    return _sloshing_phase(s, c, "probe_level")
 
 
 def _second_harmonic(s: _Sweep, c: str) -> float:
@@ -580,15 +616,19 @@ def _second_harmonic(s: _Sweep, c: str) -> float:
     return float(a[1] / a[0]) if a[0] > 0 else float("nan")
 
 
-def _beat(s: _Sweep, c: str) -> float:
+def _beat(s: _Sweep, c: str, name: str = "probe_elevation") -> float:
     """W1's amplitude at the cabin's first sloshing frequency (Table II) over its amplitude
     at ω, after t2."""
     from sph.study.validation import TABLE_II_SLOSHING
 
     fill = min(TABLE_II_SLOSHING, key=lambda f: abs(f - s.cases[c]["fill"]))
-    a = np.abs(harmonics(s.steady_times(), s.steady(c, "probe_elevation", "W1"),
+    a = np.abs(harmonics(s.steady_times(), s.steady(c, name, "W1"),
                          [s.omega, TABLE_II_SLOSHING[fill] * s.omega]))
     return float(a[1] / a[0]) if a[0] > 0 else float("nan")
+
+
+def _beat_level(s: _Sweep, c: str) -> float:
+    return _beat(s, c, "probe_level")
 
 
 def _roll_frequency(s: _Sweep, c: str) -> float:
@@ -630,6 +670,8 @@ def _beside(measure: Measure, per_case: Callable[[_Sweep, str], float], what: st
     def wrapped(s: _Sweep, cases: Sequence[str]):
         values, text = measure(s, cases)
         other = {c: (100 if percent else 1) * per_case(s, c) for c in cases}
+        if not any(math.isfinite(v) for v in other.values()):
+            return values, text
         return values, f"{text}; {what}, not judged: {_fmt(other, s, ' %' if percent else '')}"
 
     return wrapped
@@ -660,6 +702,10 @@ def _with_intact_heel(measure: Measure) -> Measure:
         return values, text
 
     return wrapped
+
+
+#: how the page names a cabin probe's reading against the level
+AGAINST_LEVEL = "against the level (W - u tan(roll), the probe's heel taken out)"
 
 
 def _slow_roll_kept(measure: Measure) -> Measure:
@@ -868,7 +914,8 @@ FINDINGS: tuple[FindingSpec, ...] = (
     FindingSpec(
         "F11", "The sloshing wave in the liquid cabins (W1) is lower for larger fill ratios",
         "Sec. IV D, Fig. 22", "fill", "two or more non-zero fill ratios", _Cases.cargo_fills,
-        True, _each(_w1_amplitude, "W1 amplitude after t2 (m)"), _all_decreasing),
+        True, _beside(_each(_w1_amplitude, "W1 amplitude after t2 (m)"), _w1_amplitude_level,
+                      AGAINST_LEVEL), _all_decreasing),
     FindingSpec(
         "F12", "The wave direction changes the heave only slightly; the head-wave case "
         "heaves slightly more", "Sec. IV C, Fig. 19", "side", _BOTH_SIDES,
@@ -895,8 +942,9 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F16", "The sloshing in the damaged cabin (W2) and in the cargo cabins (W1) differ "
         "in phase by about π at η = 25 %, π/2 at 50 % and 0 at 75 %", "Sec. IV D, Fig. 22",
         "fill", "two or more of the fill ratios 25, 50 and 75 %", _Cases.phase_fills, True,
-        _each(_sloshing_phase, "phase of W2 against W1 at ω after t2 (rad)",
-              suffix=lambda v: f" (about: within π/4 = {PHASE_TOLERANCE:.3g} rad)"),
+        _beside(_each(_sloshing_phase, "phase of W2 against W1 at ω after t2 (rad)",
+                      suffix=lambda v: f" (about: within π/4 = {PHASE_TOLERANCE:.3g} rad)"),
+                _sloshing_phase_level, AGAINST_LEVEL),
         _phases_as_paper),
     FindingSpec(
         "F17", "At η = 25 % and 50 % the sloshing of the flood water carries the second "
@@ -909,8 +957,9 @@ FINDINGS: tuple[FindingSpec, ...] = (
         "F18", "At η = 75 % the cargo sloshing beats at the difference of the wave and the "
         "cabin's sloshing frequencies", "Sec. IV D, Fig. 22; Table II", "fill",
         "the fill ratio 75 %", _Cases.high_fill, True,
-        _each(_beat, "W1 amplitude at the sloshing frequency (Table II) over that at ω "
-              "after t2", suffix=lambda v: f" (beats: {BEAT:g} or more)"),
+        _beside(_each(_beat, "W1 amplitude at the sloshing frequency (Table II) over that at "
+                      "ω after t2", suffix=lambda v: f" (beats: {BEAT:g} or more)"),
+                _beat_level, AGAINST_LEVEL),
         _beats),
     FindingSpec(
         "F19", "At dynamic equilibrium the ship rolls at a higher frequency with the opening "

@@ -437,6 +437,45 @@ def test_mean_heel_shows_the_intact_ships_beside():
     assert "intact" not in f7.measured and f7.holds is True
 
 
+def test_cabin_probes_are_read_against_the_level_beside():
+    """W1 and W2 read the surface in the ship's frame, 7.8 m from its centre line: a level
+    liquid in a heeling ship reads 7.8 tan(roll) there. F11, F16 and F18 judge the ship's
+    reading and show beside it the one against the level: with the heel's reading added to
+    every W1 and W2 the judged values change, and against the level they read as the
+    liquid's own did before."""
+    import yaml
+
+    ds = _sweep(_paper_like())
+    before = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}
+    configs = [yaml.safe_dump(dict(geometry=dict(hull=dict(breadth=16.0, plating=0.1),
+                                                 damage=dict(side=c["side"]))))
+               for c in CASES]
+    ds["case_config"] = ("case", configs)
+    u = 8.0 - 0.1 - 0.1
+    heel = u * np.tan(np.radians(ds["roll"]))  # back side: u > 0
+    for probe in ("W1", "W2"):
+        ds["probe_elevation"].loc[dict(probe=probe)] = ds["probe_elevation"].sel(probe=probe) + heel
+    out = {f.id: f for f in findings.compute_findings(ds, GROUPS, 7.0, halves=False)}
+    labels = {c["case"]: findings.case_label(c) for c in CASES}
+
+    def value(part, case):
+        return float(re.search(re.escape(labels[case]) + r": ([0-9.]+)", part).group(1))
+
+    for fid in ("F11", "F16", "F18"):
+        judged, level = out[fid].measured.split("; " + findings.AGAINST_LEVEL + ", not judged")
+        for case in ("case6", "case7", "case8"):
+            if labels[case] in before[fid].measured:
+                assert value(level, case) == pytest.approx(value(before[fid].measured, case),
+                                                           rel=0.01)
+    judged = out["F11"].measured.split("; " + findings.AGAINST_LEVEL)[0]
+    for case, w1 in (("case6", 0.3), ("case7", 0.2)):
+        assert value(judged, case) > 2 * w1  # the roll's 3-6.5 degree read at 7.8 m
+    # without the runs' configuration (where the probes sit) the page shows none
+    plain = {f.id: f for f in findings.compute_findings(ds.drop_vars("case_config"), GROUPS,
+                                                        7.0, halves=False)}
+    assert "against the level" not in plain["F11"].measured
+
+
 def test_missing_groups_are_not_determinable():
     ds = _sweep(_paper_like()).sel(case=["case1", "case3"])
     groups = study.groups([c for c in CASES if c["case"] in ("case1", "case3")],
