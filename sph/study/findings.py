@@ -1213,7 +1213,8 @@ def zone_entries(ds, period: float) -> list[str]:
 
 #: the records :func:`spectra_table` looks into: name, (variable, probe), unit
 SPECTRA_RECORDS = {"roll": ("roll", None, "degree"), "heave": ("heave", None, "m"),
-                   "W1": ("probe_elevation", "W1", "m"), "W2": ("probe_elevation", "W2", "m")}
+                   "W1": ("probe_elevation", "W1", "m"), "W2": ("probe_elevation", "W2", "m"),
+                   "Q": ("flood_volume", None, "m2")}
 
 #: the columns of :func:`spectra_table`'s rows, in the order of its CSV table
 SPECTRA_COLUMNS = ("case", "record", "peak", "frequency_over_omega", "amplitude", "unit",
@@ -1223,8 +1224,8 @@ SPECTRA_COLUMNS = ("case", "record", "peak", "frequency_over_omega", "amplitude"
 def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
                   peaks: int = 3) -> list[dict]:
     """Where each case's records sit after t2: the ``peaks`` largest peaks of
-    :func:`spectrum_peaks` of the roll, the heave and the sloshing probes W1 and W2 of
-    every case the findings read (every case at the first case's wave where they read
+    :func:`spectrum_peaks` of the roll, the heave, the sloshing probes W1 and W2 and the
+    flood volume Q of every case the findings read (every case at the first case's wave where they read
     none), each over the window its findings read (from t2 to the end, or to where its
     hull reached the absorbing zone). A probe that does not move (W1 of a ship without
     cargo) has none. Rows for a CSV table."""

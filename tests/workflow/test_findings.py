@@ -581,6 +581,10 @@ def test_spectra_table_places_each_record_of_each_case():
                                                                      rel=0.01), case
         assert roll["window_end"] == pytest.approx(10 * T if case == "case5" else 12 * T,
                                                    abs=0.2), case
+    # Q exchanges water at ω: fluct / 2 of its level (q = 60 here), an intact ship has none
+    assert first[("case3", "Q")]["amplitude"] == pytest.approx(0.5 * 0.10 * 60, rel=0.02)
+    assert first[("case3", "Q")]["frequency_over_omega"] == pytest.approx(1.0, abs=0.015)
+    assert ("case1", "Q") not in first
     second = [r for r in rows if r["case"] == "case3" and r["record"] == "roll"
               and r["peak"] == 2]
     # (a weak peak on the side lobes of a strong one moves by a few steps of the grid)
