@@ -63,7 +63,7 @@ from sph.io.checkpoint import (
     resume_or_start,
     start_from,
 )
-from sph.io.status import StatusError, find_outputs, format_table, run_status
+from sph.io.status import StatusError, find_outputs, format_table, run_status, summary
 from sph.schema import ConfigError
 
 
@@ -293,6 +293,8 @@ def _status(paths: list[Path]) -> int:
                 failed = True
     if rows:
         print(format_table(rows))
+        if len(rows) > 1:
+            print(summary(rows))
     return 2 if failed else 0
 
 

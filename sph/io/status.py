@@ -240,6 +240,28 @@ def _silence(r: RunStatus, now: float) -> str:
             "core in a workflow; `sph run` again resumes it)")
 
 
+def summary(rows: list[RunStatus]) -> str:
+    """One line on a set of runs (a sweep's folder): how many have completed, are under
+    way, have not started or ended otherwise, and for those under way the wall hours left
+    at their rates, the longest and summed: with a core each the last ends after the
+    longest, on fewer cores after about the sum over their number."""
+    done = sum(r.status == "completed" for r in rows)
+    going = [r for r in rows if r.going]
+    idle = sum(r.status == "not started" for r in rows)
+    other = len(rows) - done - len(going) - idle
+    parts = [f"{len(rows)} run{'' if len(rows) == 1 else 's'}: {done} completed",
+             f"{len(going)} under way"]
+    left = [r.hours_left for r in going if r.hours_left is not None]
+    if left:
+        known = "" if len(left) == len(going) else f" for {len(left)} of them"
+        parts[-1] += (f" ({max(left):.1f} h left at the longest, {sum(left):.1f} h summed"
+                      f"{known}, at their rates)")
+    parts.append(f"{idle} not started")
+    if other:
+        parts.append(f"{other} ended otherwise (stopped, blew up or failed: the table says)")
+    return ", ".join(parts)
+
+
 def format_table(rows: list[RunStatus], now: float | None = None) -> str:
     """A plain-text table, one line per run."""
     now = time.time() if now is None else now

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -378,6 +379,29 @@ def test_status_follows_a_run_to_its_end(case_file, tmp_path, capsys):
         assert st.max_speed == float(ds["max_velocity"].max()) >= speeds.max()
     rc, row = _status_row(capsys, out)
     assert rc == 0 and row["done"] == "100.0 %" and row["status"] == "completed"
+
+
+def test_status_sums_up_a_sweep():
+    """Below the table of two or more runs, one line: how many completed, are under way
+    (the wall hours left at their rates, the longest and summed), have not started, or
+    ended otherwise."""
+    from sph.io.status import RunStatus, summary
+
+    def run(status, t=0.0, recent=None, wall=0.0):
+        return RunStatus(Path(f"{status}.nc"), "damaged_ship", status, t, 75.4, 0, wall,
+                         None, "output", recent_rate=recent)
+
+    rows = [run("completed", 75.4, wall=3600.0), run("running", 35.4, recent=20.0),
+            run("started (no output written yet)", 55.4, recent=10.0), run("not started"),
+            run("blew up at step 5 (t = 1 s): density")]
+    assert summary(rows) == ("5 runs: 1 completed, 2 under way (2.0 h left at the longest, "
+                             "4.0 h summed, at their rates), 1 not started, 1 ended otherwise "
+                             "(stopped, blew up or failed: the table says)")
+    # a run under way without a rate yet (just started) is counted, not timed
+    rows[1] = run("running", 1.0, wall=10.0)
+    assert "(2.0 h left at the longest, 2.0 h summed for 1 of them, at their rates)" in \
+        summary(rows)
+    assert summary(rows[:1]) == "1 run: 1 completed, 0 under way, 0 not started"
 
 
 def test_status_of_runs_not_started_and_of_other_files(tmp_path, capsys):
