@@ -1227,8 +1227,8 @@ def spectra_table(ds, groups: Mapping[str, Sequence[str]], t2_periods: float,
     :func:`spectrum_peaks` of the roll, the heave, the sloshing probes W1 and W2 and the
     flood volume Q of every case the findings read (every case at the first case's wave
     where they read none), each over the window its findings read (from t2 to the end, or
-    to where its hull reached the absorbing zone). A probe that does not move (W1 of a ship without
-    cargo) has none. Rows for a CSV table."""
+    to where its hull reached the absorbing zone). A probe that does not move (W1 of a ship
+    without cargo) has none. Rows for a CSV table."""
     s = _Sweep(one_wave(ds, finding_cases(groups)), t2_periods)
     rows = []
     for c in (str(c) for c in s.ds["case"].values):
